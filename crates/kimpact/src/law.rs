@@ -1,0 +1,608 @@
+//! The mass-weighted k-update, in a form that is exact to a few ulps.
+
+use nalgebra::{RealField, SVector};
+
+use crate::error::{LawError, Which};
+
+/// Relative tolerance by which the dissipation is reduced below its largest
+/// admissible value when the note's quadratic has complex roots (the
+/// "clamped" case). A clamped impact keeps `sqrt(1e-6) = 1e-3` of its normal
+/// approach speed.
+pub const CLAMP_TOLERANCE: f64 = 1e-6;
+
+/// The mass of a body taking part in an impact.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub enum Mass<T> {
+    /// A finite, positive mass.
+    Finite(T),
+    /// A fixed or kinematic body: its velocity is prescribed and the impact
+    /// does not change it. See [`FixedPartner`] for how the law treats it.
+    Infinite,
+}
+
+impl<T: RealField + Copy> Mass<T> {
+    /// A finite mass, checked to be finite and positive.
+    pub fn finite(mass: T) -> Result<Self, LawError> {
+        check_mass(mass, Which::Body).map(Mass::Finite)
+    }
+
+    /// Whether this is [`Mass::Infinite`].
+    pub fn is_infinite(&self) -> bool {
+        matches!(self, Mass::Infinite)
+    }
+
+    fn checked(self, which: Which) -> Result<Self, LawError> {
+        match self {
+            Mass::Finite(m) => check_mass(m, which).map(Mass::Finite),
+            Mass::Infinite => Ok(Mass::Infinite),
+        }
+    }
+}
+
+/// A body as the law sees it: a mass and a linear velocity. Built only
+/// through checked constructors, so every `Body` holds finite data.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Body<T: RealField + Copy, const D: usize> {
+    mass: Mass<T>,
+    velocity: SVector<T, D>,
+}
+
+impl<T: RealField + Copy, const D: usize> Body<T, D> {
+    /// A body of finite mass `mass` moving at `velocity`.
+    ///
+    /// # Errors
+    /// [`LawError::NonFiniteMass`], [`LawError::NonPositiveMass`] or
+    /// [`LawError::NonFiniteVelocity`].
+    pub fn new(mass: T, velocity: SVector<T, D>) -> Result<Self, LawError> {
+        Ok(Self {
+            mass: Mass::Finite(check_mass(mass, Which::Body)?),
+            velocity: check_velocity(velocity, Which::Body)?,
+        })
+    }
+
+    /// A fixed or kinematic body (infinite mass) moving at `velocity`
+    /// (zero for a fixed body).
+    ///
+    /// # Errors
+    /// [`LawError::NonFiniteVelocity`].
+    pub fn immovable(velocity: SVector<T, D>) -> Result<Self, LawError> {
+        Ok(Self {
+            mass: Mass::Infinite,
+            velocity: check_velocity(velocity, Which::Body)?,
+        })
+    }
+
+    /// The body's mass.
+    pub fn mass(&self) -> Mass<T> {
+        self.mass
+    }
+
+    /// The body's velocity.
+    pub fn velocity(&self) -> &SVector<T, D> {
+        &self.velocity
+    }
+
+    /// Kinetic energy `½ m |v|²`; zero for an immovable body (whose energy
+    /// the law never changes).
+    pub fn kinetic_energy(&self) -> T {
+        kinetic_energy(self.mass, &self.velocity)
+    }
+}
+
+/// How the law treats a partner of infinite mass (a fixed or kinematic body:
+/// a wall, a cushion, a floor, a paddle).
+///
+/// The literal law sets `d = d̃ (m₁ + m₂) |v₂ − v₁|²`, which grows without
+/// bound with `m₂`: against an infinite mass every impact with `d̃ > 0` is
+/// clamped, i.e. perfectly plastic up to the `1e-6` tolerance. That is
+/// rarely what a billiards cushion or a pinball wall should do, so the
+/// default is [`FixedPartner::OwnMass`].
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
+pub enum FixedPartner {
+    /// The default. The impact uses the finite body's own mass in place of
+    /// the pair's: `d = d̃_w m |v₂ − v₁|²`, with `d̃_w` the law's
+    /// `wall_dissipation` (equal to `dissipation` unless set). The effective
+    /// restitution against a wall is then `e = sqrt(1 − 2 d̃_w |w|²/u²)`,
+    /// independent of the ball's mass; `d̃_w = 0` is an elastic wall.
+    #[default]
+    OwnMass,
+    /// The note's law taken literally, as the limit `m₂ → ∞`: elastic if
+    /// `dissipation` is zero, otherwise always clamped (the ball keeps
+    /// `1e-3` of its normal speed). `wall_dissipation` is ignored.
+    Literal,
+}
+
+/// The law's parameters, as plain data (for configuration files). Turn them
+/// into a [`Law`] with [`Law::new`], which checks them.
+#[derive(Copy, Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
+pub struct LawParams<T> {
+    /// `d̃ ≥ 0`, the dissipation constant of the note. Zero is elastic.
+    #[cfg_attr(feature = "serde", serde(default = "zero"))]
+    pub dissipation: T,
+    /// `d̃_w ≥ 0`, the dissipation constant against fixed and kinematic
+    /// partners under [`FixedPartner::OwnMass`]; `None` means "same as
+    /// `dissipation`".
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub wall_dissipation: Option<T>,
+    /// The policy for partners of infinite mass.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub fixed_partner: FixedPartner,
+}
+
+#[cfg(feature = "serde")]
+fn zero<T: RealField>() -> T {
+    T::zero()
+}
+
+impl<T: RealField + Copy> Default for LawParams<T> {
+    fn default() -> Self {
+        Self {
+            dissipation: T::zero(),
+            wall_dissipation: None,
+            fixed_partner: FixedPartner::OwnMass,
+        }
+    }
+}
+
+/// The mass-weighted k-update of `shared/seed/collision-events.md`.
+///
+/// For bodies 1 and 2 with masses `m₁, m₂`, velocities `v₁, v₂` and unit
+/// normal `n̄₁ = n̄` from 1 towards the contact (`n̄₂ = −n̄`):
+///
+/// ```text
+/// v₁' = v₁ + m₂ k n̄₂,      v₂' = v₂ + m₁ k n̄₁,
+/// (m₁m₂(m₁+m₂)/2) k² + k m₁m₂ (v₁·n̄₂ + v₂·n̄₁) + d = 0,
+/// d = d̃ (m₁+m₂) |v₂ − v₁|²,
+/// ```
+///
+/// with the root of larger magnitude. Momentum is conserved, kinetic energy
+/// drops by exactly `d`, and `d̃ = 0` is elastic. When the roots would be
+/// complex, `d` is reduced to `(1 − 1e-6)` times its largest admissible value.
+///
+/// # How it is computed
+/// With `w = v₂ − v₁`, the approach speed `u = −w·n̄ > 0`, the reduced mass
+/// `μ = m₁m₂/M`, `M = m₁ + m₂` and `s = M k` (the change of the normal
+/// relative velocity), the quadratic becomes
+///
+/// ```text
+/// s² − 2 u s + 2 d / μ = 0   ⇒   s = u (1 + e),   e = sqrt(1 − q),
+/// q = 2 d / (μ u²) = 2 d̃ (|w|/u)² (M²/(m₁m₂)),    M²/(m₁m₂) = t + 2 + 1/t,
+/// ```
+///
+/// `t` the ratio of the smaller to the larger mass. The velocity changes are
+/// `Δv₁ = −(m₂/M) s n̄` and `Δv₂ = (m₁/M) s n̄`, the mass fractions computed
+/// from `t` alone. Nothing multiplies two masses, nothing subtracts nearly
+/// equal energies: the result is exact to a few ulps in f32 and f64 for any
+/// masses and speeds whose ratios the type can hold, and `e` is the
+/// effective restitution (`u' = e u`). The note's `k` is reported as `s/M`.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Law<T> {
+    dissipation: T,
+    wall_dissipation: T,
+    wall_dissipation_set: bool,
+    fixed_partner: FixedPartner,
+}
+
+/// The effective restitution of one impact, the view of the law a solver
+/// with a restitution coefficient needs.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Restitution<T> {
+    /// `e = u'/u ∈ [0, 1]`: the normal separation speed after the impact
+    /// over the approach speed before.
+    pub coefficient: T,
+    /// Whether `d` had to be reduced (the note's complex-root case).
+    pub clamped: bool,
+}
+
+/// The outcome of one impact between bodies `a` (1) and `b` (2).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Impact<T: RealField + Copy, const D: usize> {
+    /// The unit normal `n̄₁`, from `a` towards `b`.
+    pub normal: SVector<T, D>,
+    /// `u = −(v_b − v_a)·n̄ > 0`, the normal approach speed before.
+    pub approach_speed: T,
+    /// `Δv_a = m_b k n̄₂ = −(m_b/M) s n̄`.
+    pub delta_v_a: SVector<T, D>,
+    /// `Δv_b = m_a k n̄₁ = (m_a/M) s n̄`.
+    pub delta_v_b: SVector<T, D>,
+    /// The note's `k = s/M` (zero when a partner is immovable). Reported for
+    /// reference only: it can under- or overflow where `M` leaves the range
+    /// of the type, and no velocity is computed through it.
+    pub k: T,
+    /// The impulse `J = μ s ≥ 0` along `n̄`, applied as `+J n̄` to `b` and
+    /// `−J n̄` to `a` (for an immovable partner, `μ` is the finite mass).
+    pub impulse: T,
+    /// The effective restitution `e = u'/u`.
+    pub restitution: T,
+    /// Kinetic energy of the finite bodies before the impact.
+    pub energy_before: T,
+    /// Kinetic energy of the finite bodies after the impact.
+    pub energy_after: T,
+    /// The dissipation `d` actually used: the energy lost.
+    pub dissipated: T,
+    /// Whether `d` was reduced because the roots would have been complex.
+    pub clamped: bool,
+}
+
+/// The mass factors of a pair, computed without multiplying masses.
+#[derive(Copy, Clone, Debug)]
+struct PairMasses<T> {
+    /// `m_a / M`: scales `Δv_b`.
+    frac_a: T,
+    /// `m_b / M`: scales `Δv_a`.
+    frac_b: T,
+    /// `μ = m_a m_b / M` (the finite mass against an immovable partner).
+    reduced: T,
+    /// `M / μ = M² / (m_a m_b)`: 1 against an immovable partner under
+    /// `OwnMass`, `None` (infinite) under `Literal`.
+    growth: Option<T>,
+    /// `M`, only for reporting `k`; `None` when infinite.
+    total: Option<T>,
+    /// Whether one partner is immovable.
+    wall: bool,
+}
+
+fn check_mass<T: RealField + Copy>(mass: T, which: Which) -> Result<T, LawError> {
+    if !mass.is_finite() {
+        Err(LawError::NonFiniteMass {
+            which,
+            value: to_f64(mass),
+        })
+    } else if mass <= T::zero() {
+        Err(LawError::NonPositiveMass {
+            which,
+            value: to_f64(mass),
+        })
+    } else {
+        Ok(mass)
+    }
+}
+
+fn check_velocity<T: RealField + Copy, const D: usize>(
+    velocity: SVector<T, D>,
+    which: Which,
+) -> Result<SVector<T, D>, LawError> {
+    match velocity.iter().position(|c| !c.is_finite()) {
+        None => Ok(velocity),
+        Some(component) => Err(LawError::NonFiniteVelocity {
+            which,
+            component,
+            value: to_f64(velocity[component]),
+        }),
+    }
+}
+
+fn check_dissipation<T: RealField + Copy>(
+    value: T,
+    parameter: &'static str,
+) -> Result<T, LawError> {
+    if value.is_finite() && value >= T::zero() {
+        Ok(value)
+    } else {
+        Err(LawError::InvalidDissipation {
+            parameter,
+            value: to_f64(value),
+        })
+    }
+}
+
+/// The unit vector along `normal`, scaled first by its largest component so
+/// that neither tiny nor huge normals under- or overflow.
+pub(crate) fn unit_normal<T: RealField + Copy, const D: usize>(
+    normal: &SVector<T, D>,
+) -> Result<SVector<T, D>, LawError> {
+    if let Some(component) = normal.iter().position(|c| !c.is_finite()) {
+        return Err(LawError::NonFiniteNormal {
+            component,
+            value: to_f64(normal[component]),
+        });
+    }
+    let scale = normal.amax();
+    if scale == T::zero() {
+        return Err(LawError::ZeroNormal);
+    }
+    let scaled = normal / scale;
+    Ok(scaled / scaled.norm())
+}
+
+fn kinetic_energy<T: RealField + Copy, const D: usize>(mass: Mass<T>, v: &SVector<T, D>) -> T {
+    match mass {
+        Mass::Finite(m) => m * v.norm_squared() * half::<T>(),
+        Mass::Infinite => T::zero(),
+    }
+}
+
+fn half<T: RealField + Copy>() -> T {
+    T::from_subset(&0.5)
+}
+
+fn to_f64<T: RealField + Copy>(x: T) -> f64 {
+    x.to_subset().unwrap_or(f64::NAN)
+}
+
+impl<T: RealField + Copy> Default for Law<T> {
+    fn default() -> Self {
+        Self::elastic()
+    }
+}
+
+impl<T: RealField + Copy> Law<T> {
+    /// The law with checked parameters.
+    ///
+    /// # Errors
+    /// [`LawError::InvalidDissipation`] if `dissipation` or
+    /// `wall_dissipation` is negative, NaN or infinite.
+    pub fn new(params: LawParams<T>) -> Result<Self, LawError> {
+        let dissipation = check_dissipation(params.dissipation, "dissipation")?;
+        let wall_dissipation = match params.wall_dissipation {
+            Some(w) => check_dissipation(w, "wall_dissipation")?,
+            None => dissipation,
+        };
+        Ok(Self {
+            dissipation,
+            wall_dissipation,
+            wall_dissipation_set: params.wall_dissipation.is_some(),
+            fixed_partner: params.fixed_partner,
+        })
+    }
+
+    /// The elastic law (`d̃ = 0`, elastic walls).
+    pub fn elastic() -> Self {
+        Self {
+            dissipation: T::zero(),
+            wall_dissipation: T::zero(),
+            wall_dissipation_set: false,
+            fixed_partner: FixedPartner::OwnMass,
+        }
+    }
+
+    /// The law with dissipation constant `d̃` (also used against walls).
+    ///
+    /// # Errors
+    /// [`LawError::InvalidDissipation`] if `d̃` is negative, NaN or infinite.
+    pub fn with_dissipation(dissipation: T) -> Result<Self, LawError> {
+        Self::new(LawParams {
+            dissipation,
+            ..LawParams::default()
+        })
+    }
+
+    /// The parameters this law was built from.
+    pub fn params(&self) -> LawParams<T> {
+        LawParams {
+            dissipation: self.dissipation,
+            wall_dissipation: self.wall_dissipation_set.then_some(self.wall_dissipation),
+            fixed_partner: self.fixed_partner,
+        }
+    }
+
+    /// `d̃`, the dissipation constant between two finite masses.
+    pub fn dissipation(&self) -> T {
+        self.dissipation
+    }
+
+    /// `d̃_w`, the dissipation constant against immovable partners under
+    /// [`FixedPartner::OwnMass`].
+    pub fn wall_dissipation(&self) -> T {
+        self.wall_dissipation
+    }
+
+    /// The policy for immovable partners.
+    pub fn fixed_partner(&self) -> FixedPartner {
+        self.fixed_partner
+    }
+
+    /// Replace the parameters at run time. On error the law is unchanged.
+    ///
+    /// # Errors
+    /// As [`Law::new`].
+    pub fn set_params(&mut self, params: LawParams<T>) -> Result<(), LawError> {
+        *self = Self::new(params)?;
+        Ok(())
+    }
+
+    fn pair_masses(&self, a: Mass<T>, b: Mass<T>) -> Option<PairMasses<T>> {
+        let one = T::one();
+        let wall_growth = match self.fixed_partner {
+            FixedPartner::OwnMass => Some(one),
+            FixedPartner::Literal => None,
+        };
+        match (a, b) {
+            (Mass::Finite(ma), Mass::Finite(mb)) => {
+                let (lo, hi) = if ma <= mb { (ma, mb) } else { (mb, ma) };
+                // t ∈ (0, 1]; every factor follows from t without a product
+                // of two masses.
+                let t = lo / hi;
+                let one_plus_t = one + t;
+                let frac_lo = t / one_plus_t;
+                let frac_hi = one / one_plus_t;
+                let growth = t + (one + one) + one / t;
+                let (frac_a, frac_b) = if ma <= mb {
+                    (frac_lo, frac_hi)
+                } else {
+                    (frac_hi, frac_lo)
+                };
+                Some(PairMasses {
+                    frac_a,
+                    frac_b,
+                    reduced: lo * frac_hi,
+                    growth: Some(growth),
+                    total: Some(ma + mb),
+                    wall: false,
+                })
+            }
+            (Mass::Finite(m), Mass::Infinite) => Some(PairMasses {
+                frac_a: T::zero(),
+                frac_b: one,
+                reduced: m,
+                growth: wall_growth,
+                total: None,
+                wall: true,
+            }),
+            (Mass::Infinite, Mass::Finite(m)) => Some(PairMasses {
+                frac_a: one,
+                frac_b: T::zero(),
+                reduced: m,
+                growth: wall_growth,
+                total: None,
+                wall: true,
+            }),
+            (Mass::Infinite, Mass::Infinite) => None,
+        }
+    }
+
+    /// `q = 2 d / (μ u²)` from `ρ = (|w|/u)²`, then the effective
+    /// restitution. `q` may be infinite (grazing impacts, extreme mass
+    /// ratios, literal walls): that is the clamped case, never a NaN.
+    fn coefficient(&self, pair: &PairMasses<T>, rho: T) -> (T, Restitution<T>) {
+        let dissipation = if pair.wall && self.fixed_partner == FixedPartner::OwnMass {
+            self.wall_dissipation
+        } else {
+            self.dissipation
+        };
+        let one = T::one();
+        if dissipation == T::zero() {
+            return (
+                T::zero(),
+                Restitution {
+                    coefficient: one,
+                    clamped: false,
+                },
+            );
+        }
+        let q = pair
+            .growth
+            .map(|growth| (dissipation + dissipation) * rho * growth);
+        match q {
+            Some(q) if q <= one => (
+                q,
+                Restitution {
+                    coefficient: (one - q).sqrt(),
+                    clamped: false,
+                },
+            ),
+            // Complex roots (or an infinite q): reduce d to (1 − tol) d_max,
+            // so that e² = 1 − q = tol. `e` is taken from tol directly: in
+            // f32, 1 − (1 − 1e-6) would be off by 1.3%.
+            _ => {
+                let tol = T::from_subset(&CLAMP_TOLERANCE);
+                (
+                    one - tol,
+                    Restitution {
+                        coefficient: tol.sqrt(),
+                        clamped: true,
+                    },
+                )
+            }
+        }
+    }
+
+    /// The effective restitution for a pair of masses `a`, `b` approaching
+    /// at normal speed `approach_speed` with relative tangential speed
+    /// `tangential_speed`; `None` if `approach_speed <= 0` (no impact) or
+    /// both masses are infinite.
+    ///
+    /// `e = sqrt(1 − q)`, `q = 2 d̃ (1 + (w_t/u)²)(m_a + m_b)²/(m_a m_b)`,
+    /// clamped to `q = 1 − 1e-6`.
+    ///
+    /// # Errors
+    /// On an invalid mass (naming the first or second body) or a non-finite
+    /// or negative speed.
+    pub fn restitution(
+        &self,
+        a: Mass<T>,
+        b: Mass<T>,
+        approach_speed: T,
+        tangential_speed: T,
+    ) -> Result<Option<Restitution<T>>, LawError> {
+        let a = a.checked(Which::First)?;
+        let b = b.checked(Which::Second)?;
+        if !approach_speed.is_finite() {
+            return Err(LawError::InvalidSpeed {
+                quantity: "approach_speed",
+                nonnegative: false,
+                value: to_f64(approach_speed),
+            });
+        }
+        if !(tangential_speed.is_finite() && tangential_speed >= T::zero()) {
+            return Err(LawError::InvalidSpeed {
+                quantity: "tangential_speed",
+                nonnegative: true,
+                value: to_f64(tangential_speed),
+            });
+        }
+        if approach_speed <= T::zero() {
+            return Ok(None);
+        }
+        let Some(pair) = self.pair_masses(a, b) else {
+            return Ok(None);
+        };
+        let ratio = tangential_speed / approach_speed;
+        let rho = T::one() + ratio * ratio;
+        Ok(Some(self.coefficient(&pair, rho).1))
+    }
+
+    /// Resolve one impact between `a` and `b`, `normal` pointing from `a`
+    /// towards `b` (any length; it is normalized).
+    ///
+    /// Returns `Ok(None)` when the pair is not approaching along the normal
+    /// (`(v_b − v_a)·n̄ >= 0`: the note's formula would pull it together) or
+    /// when both bodies are immovable.
+    ///
+    /// # Errors
+    /// [`LawError::ZeroNormal`] or [`LawError::NonFiniteNormal`]. Bodies are
+    /// checked when they are built.
+    pub fn resolve<const D: usize>(
+        &self,
+        a: &Body<T, D>,
+        b: &Body<T, D>,
+        normal: &SVector<T, D>,
+    ) -> Result<Option<Impact<T, D>>, LawError> {
+        let n = unit_normal(normal)?;
+        Ok(self.resolve_unit(a, b, &n))
+    }
+
+    /// [`Law::resolve`] for a normal the caller guarantees to be a finite
+    /// unit vector (as a physics engine's contact normal is). No allocation,
+    /// no error path: the hot loop of the adapters.
+    pub fn resolve_unit<const D: usize>(
+        &self,
+        a: &Body<T, D>,
+        b: &Body<T, D>,
+        n: &SVector<T, D>,
+    ) -> Option<Impact<T, D>> {
+        let w = b.velocity - a.velocity;
+        let approach_speed = -w.dot(n);
+        // `!(u > 0)` also rejects a NaN from an overflowing `w`.
+        if !(approach_speed > T::zero() && approach_speed.is_finite()) {
+            return None;
+        }
+        let pair = self.pair_masses(a.mass, b.mass)?;
+        let rho = (w / approach_speed).norm_squared();
+        let (q, restitution) = self.coefficient(&pair, rho);
+        let e = restitution.coefficient;
+        let s = approach_speed * (T::one() + e);
+        let delta_v_a = n * (-(pair.frac_b * s));
+        let delta_v_b = n * (pair.frac_a * s);
+        let energy_before = a.kinetic_energy() + b.kinetic_energy();
+        let energy_after = kinetic_energy(a.mass, &(a.velocity + delta_v_a))
+            + kinetic_energy(b.mass, &(b.velocity + delta_v_b));
+        Some(Impact {
+            normal: *n,
+            approach_speed,
+            delta_v_a,
+            delta_v_b,
+            k: pair.total.map_or(T::zero(), |total| s / total),
+            impulse: pair.reduced * s,
+            restitution: e,
+            energy_before,
+            energy_after,
+            dissipated: half::<T>() * pair.reduced * approach_speed * approach_speed * q,
+            clamped: restitution.clamped,
+        })
+    }
+}

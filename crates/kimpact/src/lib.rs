@@ -1,0 +1,47 @@
+//! # kimpact: the mass-weighted k-update collision law
+//!
+//! The core of kimpact, with no physics-engine dependency: one impact between
+//! two bodies, generic over the scalar (`f32`, `f64`) and the dimension (2,
+//! 3, any `D`) through nalgebra. The rapier adapters (`kimpact2d`,
+//! `kimpact3d`) call it for the contacts they take over.
+//!
+//! For bodies 1 and 2 with masses `m₁, m₂`, velocities `v₁, v₂` and the
+//! unit normal `n̄₁` from 1 towards the contact (`n̄₂ = −n̄₁`):
+//!
+//! ```text
+//! v₁' = v₁ + m₂ k n̄₂,      v₂' = v₂ + m₁ k n̄₁,
+//! (m₁m₂(m₁+m₂)/2) k² + k m₁m₂ (v₁·n̄₂ + v₂·n̄₁) + d = 0,
+//! d = d̃ (m₁+m₂) |v₂ − v₁|²,
+//! ```
+//!
+//! taking the root of larger magnitude, and reducing `d` to `(1 − 1e-6)` of
+//! its largest admissible value when the roots would be complex. Momentum is
+//! conserved, kinetic energy falls by exactly `d`, `d̃ = 0` is elastic. See
+//! [`Law`] for the form in which it is computed (exact to a few ulps across
+//! extreme mass ratios) and [`FixedPartner`] for walls.
+//!
+//! ```
+//! use kimpact::{Body, Law, LawParams};
+//! use nalgebra::Vector3;
+//!
+//! let law = Law::new(LawParams { dissipation: 0.01_f64, ..Default::default() })?;
+//! let cue = Body::new(0.17, Vector3::new(2.0, 0.0, 0.0))?;
+//! let object = Body::new(0.17, Vector3::zeros())?;
+//! // The normal points from the first body towards the second.
+//! let impact = law.resolve(&cue, &object, &Vector3::x())?.expect("approaching");
+//! let lost = impact.energy_before - impact.energy_after;
+//! assert!((lost - impact.dissipated).abs() < 1e-12);
+//! assert!(impact.restitution < 1.0);
+//! # Ok::<(), kimpact::LawError>(())
+//! ```
+#![warn(missing_docs)]
+#![forbid(unsafe_code)]
+
+mod error;
+mod law;
+
+pub use error::{LawError, Which};
+pub use law::{Body, CLAMP_TOLERANCE, FixedPartner, Impact, Law, LawParams, Mass, Restitution};
+
+/// Re-export of the nalgebra this crate speaks.
+pub use nalgebra;
