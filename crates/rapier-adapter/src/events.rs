@@ -1,0 +1,60 @@
+//! What kimpact reports of the impacts it handles.
+
+use crate::math::{Real, Vector};
+use crate::rapier::prelude::ColliderHandle;
+
+/// One impact resolved by the law. Pairs that kimpact takes over produce no
+/// rapier contact at the step of their impact, so these events replace
+/// rapier's `CollisionEvent::Started` for them (see `ARCHITECTURE.md`).
+#[derive(Copy, Clone, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
+pub struct ImpactEvent {
+    /// The first collider (the normal points away from it).
+    pub collider1: ColliderHandle,
+    /// The second collider (the normal points towards it).
+    pub collider2: ColliderHandle,
+    /// Time of the impact relative to the start of the step, in seconds:
+    /// `0` in the `Restitution` and `Impulse` modes; in `Exact`, in
+    /// `[−dt, dt]`, negative for a pair first seen overlapping whose impact
+    /// was rewound into the previous step.
+    pub time: Real,
+    /// The contact point (world space) at the impact.
+    pub point: Vector,
+    /// The unit normal from `collider1` towards `collider2`.
+    pub normal: Vector,
+    /// The impulse along the normal (`+impulse · normal` on collider 2's body).
+    pub impulse: Real,
+    /// The normal approach speed before the impact.
+    pub approach_speed: Real,
+    /// The effective restitution `e = u'/u`.
+    pub restitution: Real,
+    /// The kinetic energy dissipated (`d`).
+    pub dissipated: Real,
+    /// Whether `d` had to be reduced (the law's complex-root case).
+    pub clamped: bool,
+}
+
+/// Running totals since the [`crate::Kimpact`] was built (or reset).
+#[derive(Copy, Clone, Debug, Default, PartialEq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
+pub struct Stats {
+    /// Impacts resolved by the law.
+    pub impacts: u64,
+    /// Of which clamped.
+    pub clamped: u64,
+    /// Total energy dissipated by the law (f64 whatever the precision).
+    pub dissipated: f64,
+    /// Pairs skipped because a body had a non-finite velocity or mass.
+    pub skipped_non_finite: u64,
+    /// Exact-mode steps that hit the event cap and handed the rest of the
+    /// step to rapier.
+    pub event_cap_hits: u64,
+    /// Steps taken through kimpact.
+    pub steps: u64,
+}

@@ -1,0 +1,58 @@
+//! The aliases the adapter speaks, for the rapier it was built against, and
+//! the one place where rapier's vectors (glam) meet the law's (nalgebra).
+
+use nalgebra::SVector;
+
+pub use crate::rapier::math::{DIM, Pose, Real, Vector};
+
+/// The law's vector type for this dimension and precision.
+pub type LawVector = SVector<Real, DIM>;
+
+/// rapier (glam) → law (nalgebra).
+#[inline]
+pub fn to_law(v: Vector) -> LawVector {
+    #[cfg(feature = "dim2")]
+    {
+        LawVector::new(v.x, v.y)
+    }
+    #[cfg(feature = "dim3")]
+    {
+        LawVector::new(v.x, v.y, v.z)
+    }
+}
+
+/// law (nalgebra) → rapier (glam).
+#[inline]
+pub fn from_law(v: &LawVector) -> Vector {
+    #[cfg(feature = "dim2")]
+    {
+        Vector::new(v[0], v[1])
+    }
+    #[cfg(feature = "dim3")]
+    {
+        Vector::new(v[0], v[1], v[2])
+    }
+}
+
+/// Whether every component is finite.
+#[inline]
+pub fn is_finite(v: Vector) -> bool {
+    v.is_finite()
+}
+
+/// A cuboid collider from its half-extents, in either dimension (rapier's
+/// `ColliderBuilder::cuboid` takes one argument per axis).
+pub fn cuboid(half_extents: Vector) -> crate::rapier::prelude::ColliderBuilder {
+    #[cfg(feature = "dim2")]
+    {
+        crate::rapier::prelude::ColliderBuilder::cuboid(half_extents.x, half_extents.y)
+    }
+    #[cfg(feature = "dim3")]
+    {
+        crate::rapier::prelude::ColliderBuilder::cuboid(
+            half_extents.x,
+            half_extents.y,
+            half_extents.z,
+        )
+    }
+}

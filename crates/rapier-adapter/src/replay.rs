@@ -1,0 +1,471 @@
+//! Exact mode: the impacts of one step, resolved in time order at their
+//! analytic times of impact, after rapier's step.
+//!
+//! rapier integrates positions with the velocity it solved, so within a step
+//! every body moves on a straight line from its start `x₀` to its end `x₁`,
+//! at `v̄ = (x₁ − x₀)/dt` (which includes gravity and the contacts rapier kept,
+//! such as the table under a billiard ball). The replay takes those lines as
+//! the motion, finds when the pairs the hook handed over meet (parry's
+//! shape cast on linear motion: exact for two balls), applies the law there,
+//! bends the two lines, and repeats, in time order. A body whose velocity
+//! changes brings its touching neighbours into the replay (chains: a row of
+//! touching balls is a chain of impacts within one step). Pairs first seen
+//! overlapping are rewound into the previous step, along the same lines.
+//! At the end each body that took part gets `x = x(dt)` and
+//! `v = v_rapier + Σ Δv`.
+
+use std::cmp::Ordering;
+use std::collections::{BinaryHeap, HashMap, HashSet};
+
+use kimpact::Mass;
+
+use crate::math::{Pose, Real, Vector, from_law, to_law};
+use crate::rapier::parry::query::{ShapeCastOptions, cast_shapes};
+use crate::rapier::prelude::*;
+use crate::resolver::{Candidate, Kimpact, LawBody, checked, governs, law_body};
+
+/// What a node of the replay stands for.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+enum Key {
+    Body(RigidBodyHandle),
+    /// A collider without a body (static geometry).
+    Collider(ColliderHandle),
+}
+
+/// A body on a piecewise-linear path: at `t_ref` it is at `p`, moving at `v`.
+#[derive(Copy, Clone, Debug)]
+struct Node {
+    key: Key,
+    dynamic: bool,
+    /// Position at the end of rapier's step.
+    x1: Vector,
+    /// rapier's straight-line velocity over the step (dynamic bodies).
+    v_bar: Vector,
+    p: Vector,
+    v: Vector,
+    t_ref: Real,
+    version: u32,
+    expanded: bool,
+    hit: bool,
+}
+
+impl Node {
+    fn at(&self, t: Real) -> Vector {
+        self.p + self.v * (t - self.t_ref)
+    }
+}
+
+#[derive(Copy, Clone, Debug)]
+struct Pair {
+    a: usize,
+    b: usize,
+    c1: ColliderHandle,
+    c2: ColliderHandle,
+}
+
+/// A predicted impact: pair `pair` at time `t`, valid while both nodes keep
+/// the versions it was computed with.
+#[derive(Copy, Clone, Debug)]
+struct Entry {
+    t: Real,
+    pair: usize,
+    va: u32,
+    vb: u32,
+    normal: Vector,
+    point: Vector,
+}
+
+impl PartialEq for Entry {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == Ordering::Equal
+    }
+}
+impl Eq for Entry {}
+impl PartialOrd for Entry {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+impl Ord for Entry {
+    /// Reversed (earliest first in a max-heap), ties broken by pair index so
+    /// the order never depends on the heap's history.
+    fn cmp(&self, other: &Self) -> Ordering {
+        other.t.total_cmp(&self.t).then(other.pair.cmp(&self.pair))
+    }
+}
+
+/// Scratch space of the replay, kept between steps so that a steady state
+/// allocates nothing.
+#[derive(Default)]
+pub(crate) struct Replay {
+    nodes: Vec<Node>,
+    index: HashMap<Key, usize>,
+    pairs: Vec<Pair>,
+    pair_keys: HashSet<(ColliderHandle, ColliderHandle)>,
+    /// For each node, the pairs it is in.
+    adjacency: Vec<Vec<usize>>,
+    heap: BinaryHeap<Entry>,
+}
+
+impl Replay {
+    fn clear(&mut self) {
+        self.nodes.clear();
+        self.index.clear();
+        self.pairs.clear();
+        self.pair_keys.clear();
+        for a in &mut self.adjacency {
+            a.clear();
+        }
+        self.heap.clear();
+    }
+
+    fn node(
+        &mut self,
+        k: &Kimpact,
+        bodies: &RigidBodySet,
+        collider: ColliderHandle,
+        parent: Option<RigidBodyHandle>,
+        dt: Real,
+    ) -> usize {
+        let key = match parent {
+            Some(h) => Key::Body(h),
+            None => Key::Collider(collider),
+        };
+        if let Some(&i) = self.index.get(&key) {
+            return i;
+        }
+        let rb = parent.and_then(|h| bodies.get(h));
+        let node = match rb {
+            Some(rb) if rb.is_dynamic() => {
+                let x1 = rb.translation();
+                let handle = parent.expect("a body has a handle");
+                let x0 = k.start_of(handle).unwrap_or(x1);
+                // rapier's velocity when the body moved with it (free flight:
+                // exact, where (x₁ − x₀)/dt would round), the chord otherwise.
+                let v1 = rb.linvel();
+                let moved = x1 - x0;
+                let slack = 8.0 * Real::EPSILON * (x1.abs() + x0.abs()).max_element();
+                let v_bar = if (moved - v1 * dt).abs().max_element() <= slack {
+                    v1
+                } else {
+                    moved / dt
+                };
+                Node {
+                    key,
+                    dynamic: true,
+                    x1,
+                    v_bar,
+                    p: x0,
+                    v: v_bar,
+                    t_ref: 0.0,
+                    version: 0,
+                    expanded: false,
+                    hit: false,
+                }
+            }
+            Some(rb) => {
+                let x1 = rb.translation();
+                let v = rb.linvel();
+                Node {
+                    key,
+                    dynamic: false,
+                    x1,
+                    v_bar: v,
+                    p: x1,
+                    v,
+                    t_ref: dt,
+                    version: 0,
+                    expanded: true,
+                    hit: false,
+                }
+            }
+            None => Node {
+                key,
+                dynamic: false,
+                x1: Vector::ZERO,
+                v_bar: Vector::ZERO,
+                p: Vector::ZERO,
+                v: Vector::ZERO,
+                t_ref: dt,
+                version: 0,
+                expanded: true,
+                hit: false,
+            },
+        };
+        let i = self.nodes.len();
+        self.nodes.push(node);
+        if self.adjacency.len() <= i {
+            self.adjacency.push(Vec::new());
+        }
+        self.index.insert(key, i);
+        i
+    }
+
+    fn add_pair(
+        &mut self,
+        k: &Kimpact,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        c1: ColliderHandle,
+        c2: ColliderHandle,
+        dt: Real,
+    ) -> Option<usize> {
+        let key = if c1.into_raw_parts() <= c2.into_raw_parts() {
+            (c1, c2)
+        } else {
+            (c2, c1)
+        };
+        if !self.pair_keys.insert(key) {
+            return None;
+        }
+        let p1 = colliders.get(c1)?.parent();
+        let p2 = colliders.get(c2)?.parent();
+        let a = self.node(k, bodies, c1, p1, dt);
+        let b = self.node(k, bodies, c2, p2, dt);
+        if a == b {
+            return None;
+        }
+        let i = self.pairs.len();
+        self.pairs.push(Pair { a, b, c1, c2 });
+        self.adjacency[a].push(i);
+        self.adjacency[b].push(i);
+        Some(i)
+    }
+
+    /// The pose of collider `c` of node `n` at time `t`.
+    fn pose(&self, colliders: &ColliderSet, n: usize, c: ColliderHandle, t: Real) -> Option<Pose> {
+        let co = colliders.get(c)?;
+        let node = &self.nodes[n];
+        let mut pose = *co.position();
+        pose.translation += node.at(t) - node.x1;
+        Some(pose)
+    }
+
+    /// When pair `i` next meets, from time `from` (within the step), with
+    /// the nodes' current velocities. For a candidate first seen overlapping
+    /// at the start, the meeting is searched back to `−dt` (a rewind).
+    fn predict(
+        &mut self,
+        colliders: &ColliderSet,
+        i: usize,
+        from: Real,
+        dt: Real,
+        allow_rewind: bool,
+    ) {
+        let pair = self.pairs[i];
+        let Some(hit) = self.cast(colliders, &pair, from, dt - from) else {
+            return;
+        };
+        let mut entry = Entry {
+            t: from + hit.0,
+            pair: i,
+            va: self.nodes[pair.a].version,
+            vb: self.nodes[pair.b].version,
+            normal: hit.1,
+            point: hit.2,
+        };
+        if allow_rewind && hit.0 == 0.0 {
+            // Overlapping at `from`: look for the true meeting in [−dt, 0].
+            if let Some(back) = self.cast(colliders, &pair, from - dt, dt)
+                && back.0 > 0.0
+            {
+                entry.t = from - dt + back.0;
+                entry.normal = back.1;
+                entry.point = back.2;
+            }
+        }
+        self.heap.push(entry);
+    }
+
+    /// parry's linear shape cast of pair `pair` from time `from`, over
+    /// `window` seconds: (time after `from`, world normal, world point).
+    fn cast(
+        &self,
+        colliders: &ColliderSet,
+        pair: &Pair,
+        from: Real,
+        window: Real,
+    ) -> Option<(Real, Vector, Vector)> {
+        let pos1 = self.pose(colliders, pair.a, pair.c1, from)?;
+        let pos2 = self.pose(colliders, pair.b, pair.c2, from)?;
+        let s1 = colliders.get(pair.c1)?.shape();
+        let s2 = colliders.get(pair.c2)?.shape();
+        let options = ShapeCastOptions {
+            max_time_of_impact: window,
+            target_distance: 0.0,
+            stop_at_penetration: false,
+            compute_impact_geometry_on_penetration: true,
+        };
+        let (va, vb) = (self.nodes[pair.a].v, self.nodes[pair.b].v);
+        let hit = cast_shapes(&pos1, va, s1, &pos2, vb, s2, options).ok()??;
+        let normal = pos1.transform_vector(hit.normal1);
+        let len = normal.length();
+        if !(len > 0.0) {
+            return None;
+        }
+        Some((
+            hit.time_of_impact,
+            normal / len,
+            pos1.transform_point(hit.witness1),
+        ))
+    }
+
+    /// Bring the governed contacts of node `n`'s marked colliders into the
+    /// replay (once), and predict them from time `t`.
+    fn expand(
+        &mut self,
+        k: &Kimpact,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        narrow_phase: &NarrowPhase,
+        n: usize,
+        t: Real,
+        dt: Real,
+    ) {
+        if self.nodes[n].expanded {
+            return;
+        }
+        self.nodes[n].expanded = true;
+        let Key::Body(handle) = self.nodes[n].key else {
+            return;
+        };
+        let Some(rb) = bodies.get(handle) else { return };
+        let config = k.config_ref();
+        for &ch in rb.colliders() {
+            for cp in narrow_phase.contact_pairs_with(ch) {
+                if !cp.has_any_active_contact()
+                    || !governs(
+                        k.marked_ref(),
+                        config.fixed_partners,
+                        colliders,
+                        bodies,
+                        cp.collider1,
+                        cp.collider2,
+                    )
+                {
+                    continue;
+                }
+                if let Some(i) = self.add_pair(k, bodies, colliders, cp.collider1, cp.collider2, dt)
+                {
+                    self.predict(colliders, i, t, dt, false);
+                }
+            }
+        }
+    }
+
+    /// Resolve this step's impacts in time order and write the results back.
+    pub(crate) fn run(
+        &mut self,
+        k: &mut Kimpact,
+        bodies: &mut RigidBodySet,
+        colliders: &ColliderSet,
+        narrow_phase: &NarrowPhase,
+        dt: Real,
+        rest_speed: Real,
+    ) {
+        self.clear();
+        if k.candidates_sorted().is_empty() || !(dt > 0.0) {
+            return;
+        }
+        for j in 0..k.candidates_sorted().len() {
+            let c: Candidate = k.candidates_sorted()[j];
+            if let Some(i) = self.add_pair(k, bodies, colliders, c.collider1, c.collider2, dt) {
+                self.predict(colliders, i, 0.0, dt, true);
+            }
+        }
+        let max_events = k.config_ref().max_events_per_step;
+        let mut events = 0usize;
+        while let Some(e) = self.heap.pop() {
+            let pair = self.pairs[e.pair];
+            let (na, nb) = (self.nodes[pair.a], self.nodes[pair.b]);
+            if e.va != na.version || e.vb != nb.version {
+                continue; // a newer prediction exists
+            }
+            if events >= max_events {
+                k.count_cap_hit();
+                log::warn!(
+                    "kimpact: more than {max_events} impacts in one step; the rest is left to rapier"
+                );
+                break;
+            }
+            let mass = |n: &Node, c: ColliderHandle| -> (Mass<Real>, Option<RigidBodyHandle>) {
+                let parent = colliders.get(c).and_then(|co| co.parent());
+                let lb = law_body(bodies, parent);
+                (if n.dynamic { lb.mass } else { Mass::Infinite }, parent)
+            };
+            let (ma, rb1) = mass(&na, pair.c1);
+            let (mb, rb2) = mass(&nb, pair.c2);
+            let la = LawBody {
+                mass: ma,
+                velocity: na.v,
+            };
+            let lb = LawBody {
+                mass: mb,
+                velocity: nb.v,
+            };
+            let candidate = Candidate {
+                collider1: pair.c1,
+                collider2: pair.c2,
+                normal: e.normal,
+                point: e.point,
+                dist: 0.0,
+                rb1,
+                rb2,
+                start1: la,
+                start2: lb,
+            };
+            let (Ok(ba), Ok(bb)) = (checked(&la), checked(&lb)) else {
+                k.skip(&candidate);
+                continue;
+            };
+            let Some(impact) = k.law_ref().resolve_unit(&ba, &bb, &to_law(e.normal)) else {
+                continue;
+            };
+            if impact.approach_speed <= rest_speed {
+                continue; // a resting contact: rapier's
+            }
+            events += 1;
+            for (n, dv) in [(pair.a, impact.delta_v_a), (pair.b, impact.delta_v_b)] {
+                let node = &mut self.nodes[n];
+                if !node.dynamic {
+                    continue;
+                }
+                node.p = node.at(e.t);
+                node.t_ref = e.t;
+                node.v += from_law(&dv);
+                node.version += 1;
+                node.hit = true;
+            }
+            k.push_event(&candidate, e.t, e.point, &impact);
+            // Chains: neighbours of both bodies, then fresh predictions for
+            // every pair of the two bodies from now on.
+            let from = e.t.max(0.0);
+            for n in [pair.a, pair.b] {
+                if self.nodes[n].dynamic {
+                    self.expand(k, bodies, colliders, narrow_phase, n, from, dt);
+                }
+            }
+            for n in [pair.a, pair.b] {
+                for j in 0..self.adjacency[n].len() {
+                    let i = self.adjacency[n][j];
+                    self.predict(colliders, i, from, dt, false);
+                }
+            }
+        }
+        // Write back the bodies whose path the law bent.
+        for node in &self.nodes {
+            let (true, true, Key::Body(h)) = (node.dynamic, node.hit, node.key) else {
+                continue;
+            };
+            let Some(rb) = bodies.get_mut(h) else {
+                continue;
+            };
+            let x = node.at(dt);
+            let v = rb.linvel() + (node.v - node.v_bar);
+            if x.is_finite() && v.is_finite() {
+                rb.set_translation(x, true);
+                rb.set_linvel(v, true);
+            }
+        }
+    }
+}

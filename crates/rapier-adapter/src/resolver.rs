@@ -1,0 +1,686 @@
+//! The resolver: marking, flagging, the contact hook, and the step.
+
+use std::sync::Mutex;
+
+use kimpact::{Body, Law, LawError, LawParams, Mass};
+
+use crate::events::{ImpactEvent, Stats};
+use crate::math::{LawVector, Real, Vector, from_law, to_law};
+use crate::mode::Mode;
+use crate::rapier::prelude::*;
+use crate::replay::Replay;
+
+/// Tuning of the hand-over between kimpact and rapier.
+#[derive(Copy, Clone, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
+pub struct Config {
+    /// Normal approach speeds at or below this are resting contacts: rapier
+    /// keeps them, with zero restitution (no bounce). `None` (the default)
+    /// means `2 |g| dt`, the speed gravity gives in two steps, so that piles
+    /// rest under rapier's solver and only real impacts reach the law.
+    pub rest_speed: Option<Real>,
+    /// Whether a marked collider meets fixed and kinematic bodies (walls,
+    /// cushions, floors, paddles) through the law, with the law's
+    /// [`kimpact::FixedPartner`] policy. Default `true`.
+    pub fixed_partners: bool,
+    /// `Exact` mode: the most impacts resolved in one step before the rest of
+    /// the step is left to rapier (a guard against inelastic collapse).
+    pub max_events_per_step: usize,
+}
+
+impl Default for Config {
+    fn default() -> Self {
+        Self {
+            rest_speed: None,
+            fixed_partners: true,
+            max_events_per_step: 100_000,
+        }
+    }
+}
+
+/// A pair the hook handed to kimpact during the step.
+#[derive(Copy, Clone, Debug)]
+pub(crate) struct Candidate {
+    pub collider1: ColliderHandle,
+    pub collider2: ColliderHandle,
+    pub normal: Vector,
+    pub point: Vector,
+    /// The smallest solver-contact distance at detection (negative: overlap).
+    pub dist: Real,
+    /// The bodies of the two colliders.
+    pub rb1: Option<RigidBodyHandle>,
+    /// See `rb1`.
+    pub rb2: Option<RigidBodyHandle>,
+    /// The bodies as the law saw them at detection (start of step).
+    pub start1: LawBody,
+    /// See `start1`.
+    pub start2: LawBody,
+}
+
+impl Candidate {
+    fn key(&self) -> (u32, u32, u32, u32) {
+        let (a, b) = self.collider1.into_raw_parts();
+        let (c, d) = self.collider2.into_raw_parts();
+        (a, b, c, d)
+    }
+}
+
+/// What the contact hook reads: a snapshot of the resolver's settings for
+/// this step, and the list it appends to (the only shared mutable state; the
+/// hook runs on several threads with rapier's `parallel` feature).
+struct HookState<'a> {
+    law: &'a Law<Real>,
+    mode: Mode,
+    marked: &'a [u32],
+    ours: &'a [bool],
+    fixed_partners: bool,
+    rest_speed: Real,
+    dt: Real,
+    margin: Real,
+    candidates: &'a Mutex<Vec<Candidate>>,
+    user: &'a dyn PhysicsHooks,
+}
+
+/// How a body takes part in the law.
+#[derive(Copy, Clone, Debug)]
+pub(crate) struct LawBody {
+    pub mass: Mass<Real>,
+    pub velocity: Vector,
+}
+
+/// The body of a collider as the law sees it (`None` for a dynamic body with
+/// non-finite data, which is skipped).
+pub(crate) fn law_body(bodies: &RigidBodySet, parent: Option<RigidBodyHandle>) -> LawBody {
+    match parent.and_then(|h| bodies.get(h)) {
+        Some(rb) if rb.is_dynamic() => LawBody {
+            mass: Mass::Finite(rb.mass()),
+            velocity: rb.linvel(),
+        },
+        Some(rb) => LawBody {
+            mass: Mass::Infinite,
+            velocity: rb.linvel(),
+        },
+        None => LawBody {
+            mass: Mass::Infinite,
+            velocity: Vector::ZERO,
+        },
+    }
+}
+
+/// A law body, checked: non-finite or non-positive data is an error.
+pub(crate) fn checked(b: &LawBody) -> Result<Body<Real, { crate::math::DIM }>, LawError> {
+    match b.mass {
+        Mass::Finite(m) => Body::new(m, to_law(b.velocity)),
+        Mass::Infinite => Body::immovable(to_law(b.velocity)),
+    }
+}
+
+fn is_marked(marked: &[u32], handle: ColliderHandle) -> bool {
+    let (index, generation) = handle.into_raw_parts();
+    marked.get(index as usize) == Some(&(generation.wrapping_add(1)))
+}
+
+/// Whether the law governs the pair: both marked, or one marked and the
+/// other immovable (when `fixed_partners`).
+pub(crate) fn governs(
+    marked: &[u32],
+    fixed_partners: bool,
+    colliders: &ColliderSet,
+    bodies: &RigidBodySet,
+    c1: ColliderHandle,
+    c2: ColliderHandle,
+) -> bool {
+    let (m1, m2) = (is_marked(marked, c1), is_marked(marked, c2));
+    if m1 && m2 {
+        return true;
+    }
+    if !(fixed_partners && (m1 || m2)) {
+        return false;
+    }
+    let other = if m1 { c2 } else { c1 };
+    let parent = colliders.get(other).and_then(|c| c.parent());
+    match parent.and_then(|h| bodies.get(h)) {
+        Some(rb) => !rb.is_dynamic(),
+        None => true,
+    }
+}
+
+impl HookState<'_> {
+    fn user_flagged(&self, colliders: &ColliderSet, c: ColliderHandle) -> bool {
+        let (index, _) = c.into_raw_parts();
+        colliders.get(c).is_some_and(|co| {
+            co.active_hooks()
+                .contains(ActiveHooks::MODIFY_SOLVER_CONTACTS)
+        }) && !self.ours.get(index as usize).copied().unwrap_or(false)
+    }
+}
+
+impl PhysicsHooks for HookState<'_> {
+    fn filter_contact_pair(&self, context: &PairFilterContext) -> Option<SolverFlags> {
+        self.user.filter_contact_pair(context)
+    }
+
+    fn filter_intersection_pair(&self, context: &PairFilterContext) -> bool {
+        self.user.filter_intersection_pair(context)
+    }
+
+    fn modify_solver_contacts(&self, context: &mut ContactModificationContext) {
+        let (c1, c2) = (context.collider1, context.collider2);
+        if self.user_flagged(context.colliders, c1) || self.user_flagged(context.colliders, c2) {
+            self.user.modify_solver_contacts(context);
+        }
+        if self.mode == Mode::Native
+            || !governs(
+                self.marked,
+                self.fixed_partners,
+                context.colliders,
+                context.bodies,
+                c1,
+                c2,
+            )
+        {
+            return;
+        }
+        let b1 = law_body(context.bodies, context.rigid_body1);
+        let b2 = law_body(context.bodies, context.rigid_body2);
+        let Some(rigid) = context.rigid_mut() else {
+            return;
+        };
+        if rigid.solver_contacts.is_empty() {
+            return;
+        }
+        let n = *rigid.normal;
+        let w = b2.velocity - b1.velocity;
+        let approach = -w.dot(n);
+        // Newness as rapier's solver decides it: the contact carried no
+        // impulse at the previous step.
+        let fresh = rigid
+            .solver_contacts
+            .iter()
+            .all(|c| c.contact_id[0] & NEW_CONTACT_BIT != 0);
+        // Not an impact (resting, sliding, separating, or a contact rapier has
+        // been carrying): hand it to rapier with no bounce. A NaN approach
+        // fails the comparison and lands here too.
+        if !(fresh && approach > self.rest_speed && approach.is_finite()) {
+            *rigid.restitution = 0.0;
+            return;
+        }
+        let (dist, point) = rigid
+            .solver_contacts
+            .iter()
+            .map(|c| (c.dist, (c.anchor1 + c.anchor2) * 0.5))
+            .fold(
+                (Real::MAX, Vector::ZERO),
+                |acc, x| if x.0 < acc.0 { x } else { acc },
+            );
+        match self.mode {
+            Mode::Native => {}
+            Mode::Restitution => {
+                let tangential = (w + n * approach).length();
+                match self.law.restitution(b1.mass, b2.mass, approach, tangential) {
+                    Ok(Some(r)) => {
+                        *rigid.restitution = r.coefficient;
+                        self.record(context, n, point, dist, b1, b2);
+                    }
+                    // Invalid masses (a NaN mass reached rapier): no bounce,
+                    // and the post-step pass reports it.
+                    _ => *rigid.restitution = 0.0,
+                }
+            }
+            Mode::Impulse | Mode::Exact => {
+                // rapier leaves the pair alone this step; kimpact resolves
+                // it after the step if the bodies meet within it.
+                rigid.solver_contacts.clear();
+                let reach = (approach + self.margin) * self.dt;
+                if self.mode == Mode::Exact || dist <= reach {
+                    self.record(context, n, point, dist, b1, b2);
+                }
+            }
+        }
+    }
+}
+
+impl HookState<'_> {
+    fn record(
+        &self,
+        context: &ContactModificationContext,
+        normal: Vector,
+        point: Vector,
+        dist: Real,
+        start1: LawBody,
+        start2: LawBody,
+    ) {
+        let candidate = Candidate {
+            collider1: context.collider1,
+            collider2: context.collider2,
+            normal,
+            point,
+            dist,
+            rb1: context.rigid_body1,
+            rb2: context.rigid_body2,
+            start1,
+            start2,
+        };
+        // A poisoned lock only means another hook thread panicked; the list
+        // itself is still valid.
+        let mut list = self.candidates.lock().unwrap_or_else(|e| e.into_inner());
+        list.push(candidate);
+    }
+}
+
+/// The start of a step for one body (exact mode).
+#[derive(Copy, Clone, Debug, Default)]
+pub(crate) struct Start {
+    /// Body generation + 1 (0: nothing stored).
+    pub tag: u32,
+    pub translation: Vector,
+}
+
+/// kimpact's resolver: the law, the mode, the marked colliders, and the state
+/// kept between steps. See the crate docs for the three-line drop-in.
+pub struct Kimpact {
+    law: Law<Real>,
+    mode: Mode,
+    config: Config,
+    /// Per collider index: generation + 1 when marked, 0 otherwise.
+    marked: Vec<u32>,
+    /// Per collider index: whether `MODIFY_SOLVER_CONTACTS` is set by us.
+    ours: Vec<bool>,
+    /// Colliders whose hook flag we set this step.
+    flagged: Vec<ColliderHandle>,
+    candidates: Mutex<Vec<Candidate>>,
+    /// Scratch: the candidates of this step, sorted.
+    sorted: Vec<Candidate>,
+    /// Per body index: start-of-step translation (exact mode).
+    start: Vec<Start>,
+    events: Vec<ImpactEvent>,
+    stats: Stats,
+    replay: Replay,
+}
+
+impl Kimpact {
+    /// A resolver applying `law` in `mode`, with the default [`Config`].
+    pub fn new(law: Law<Real>, mode: Mode) -> Self {
+        Self::with_config(law, mode, Config::default())
+    }
+
+    /// A resolver with an explicit [`Config`].
+    pub fn with_config(law: Law<Real>, mode: Mode, config: Config) -> Self {
+        Self {
+            law,
+            mode,
+            config,
+            marked: Vec::new(),
+            ours: Vec::new(),
+            flagged: Vec::new(),
+            candidates: Mutex::new(Vec::new()),
+            sorted: Vec::new(),
+            start: Vec::new(),
+            events: Vec::new(),
+            stats: Stats::default(),
+            replay: Replay::default(),
+        }
+    }
+
+    /// The law in force.
+    pub fn law(&self) -> &Law<Real> {
+        &self.law
+    }
+
+    /// Change the law's parameters between steps.
+    ///
+    /// # Errors
+    /// A [`LawError`] naming the invalid parameter; the old law stays in force.
+    pub fn set_law(&mut self, params: LawParams<Real>) -> Result<(), LawError> {
+        self.law.set_params(params)
+    }
+
+    /// The mode.
+    pub fn mode(&self) -> Mode {
+        self.mode
+    }
+
+    /// Switch mode between steps.
+    pub fn set_mode(&mut self, mode: Mode) {
+        self.mode = mode;
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &Config {
+        &self.config
+    }
+
+    /// Mark `collider`: its contacts with other marked colliders (and with
+    /// fixed or kinematic bodies, see [`Config::fixed_partners`]) follow the
+    /// law. Marking costs nothing until the collider's body moves.
+    pub fn mark(&mut self, collider: ColliderHandle) {
+        let (index, generation) = collider.into_raw_parts();
+        let index = index as usize;
+        if self.marked.len() <= index {
+            self.marked.resize(index + 1, 0);
+        }
+        self.marked[index] = generation.wrapping_add(1);
+    }
+
+    /// Unmark `collider`: rapier's own response again from the next step.
+    pub fn unmark(&mut self, collider: ColliderHandle) {
+        let (index, generation) = collider.into_raw_parts();
+        if let Some(m) = self.marked.get_mut(index as usize)
+            && *m == generation.wrapping_add(1)
+        {
+            *m = 0;
+        }
+    }
+
+    /// Whether `collider` is marked.
+    pub fn is_marked(&self, collider: ColliderHandle) -> bool {
+        is_marked(&self.marked, collider)
+    }
+
+    /// The impacts the law resolved during the last step, in the order they
+    /// were applied.
+    pub fn events(&self) -> &[ImpactEvent] {
+        &self.events
+    }
+
+    /// Totals since the resolver was built.
+    pub fn stats(&self) -> Stats {
+        self.stats
+    }
+
+    /// Step a [`PhysicsWorld`] through kimpact (see [`Kimpact::step`]).
+    pub fn step_world(
+        &mut self,
+        world: &mut PhysicsWorld,
+        hooks: &dyn PhysicsHooks,
+        events: &dyn EventHandler,
+    ) {
+        self.step(
+            &mut world.physics_pipeline,
+            world.gravity,
+            &world.integration_parameters,
+            &mut world.islands,
+            &mut world.broad_phase,
+            &mut world.narrow_phase,
+            &mut world.bodies,
+            &mut world.colliders,
+            &mut world.impulse_joints,
+            &mut world.multibody_joints,
+            &mut world.soft_bodies,
+            &mut world.ccd_solver,
+            hooks,
+            events,
+        );
+    }
+
+    /// `PhysicsPipeline::step` through kimpact: the same arguments, the
+    /// pipeline first. `hooks` are the user's own hooks (or `&()`); they keep
+    /// working, chained before kimpact's.
+    #[allow(clippy::too_many_arguments)]
+    pub fn step(
+        &mut self,
+        pipeline: &mut PhysicsPipeline,
+        gravity: Vector,
+        integration_parameters: &IntegrationParameters,
+        islands: &mut IslandManager,
+        broad_phase: &mut BroadPhaseBvh,
+        narrow_phase: &mut NarrowPhase,
+        bodies: &mut RigidBodySet,
+        colliders: &mut ColliderSet,
+        impulse_joints: &mut ImpulseJointSet,
+        multibody_joints: &mut MultibodyJointSet,
+        soft_bodies: &mut SoftBodySet,
+        ccd_solver: &mut CCDSolver,
+        hooks: &dyn PhysicsHooks,
+        events: &dyn EventHandler,
+    ) {
+        self.events.clear();
+        self.stats.steps += 1;
+        let dt = integration_parameters.dt;
+        let g = gravity.length();
+        let rest_speed = self.config.rest_speed.unwrap_or(2.0 * g * dt);
+        self.prepare(islands, bodies, colliders, rest_speed);
+        {
+            let state = HookState {
+                law: &self.law,
+                mode: self.mode,
+                marked: &self.marked,
+                ours: &self.ours,
+                fixed_partners: self.config.fixed_partners,
+                rest_speed,
+                dt,
+                margin: g * dt,
+                candidates: &self.candidates,
+                user: hooks,
+            };
+            pipeline.step(
+                gravity,
+                integration_parameters,
+                islands,
+                broad_phase,
+                narrow_phase,
+                bodies,
+                colliders,
+                impulse_joints,
+                multibody_joints,
+                soft_bodies,
+                ccd_solver,
+                &state,
+                events,
+            );
+        }
+        self.collect_candidates();
+        match self.mode {
+            Mode::Native => {}
+            Mode::Restitution => self.report_restitution(),
+            Mode::Impulse => self.apply_impulses(bodies, dt),
+            Mode::Exact => {
+                let mut replay = std::mem::take(&mut self.replay);
+                replay.run(self, bodies, colliders, narrow_phase, dt, rest_speed);
+                self.replay = replay;
+            }
+        }
+    }
+
+    /// Set the hook flag on the marked colliders of moving, awake dynamic
+    /// bodies (only they can start an impact), clear it elsewhere, and, in
+    /// exact mode, store where those bodies start the step.
+    fn prepare(
+        &mut self,
+        islands: &IslandManager,
+        bodies: &RigidBodySet,
+        colliders: &mut ColliderSet,
+        rest_speed: Real,
+    ) {
+        for handle in self.flagged.drain(..) {
+            let (index, _) = handle.into_raw_parts();
+            if let Some(co) = colliders.get_mut(handle) {
+                co.set_active_hooks(co.active_hooks() - ActiveHooks::MODIFY_SOLVER_CONTACTS);
+            }
+            if let Some(o) = self.ours.get_mut(index as usize) {
+                *o = false;
+            }
+        }
+        if self.mode == Mode::Native {
+            return;
+        }
+        let threshold = 0.5 * rest_speed;
+        for handle in islands.active_bodies() {
+            let Some(rb) = bodies.get(handle) else {
+                continue;
+            };
+            if !rb.is_dynamic() {
+                continue;
+            }
+            let mut any_marked = false;
+            let moving = rb.linvel().length() > threshold;
+            for &ch in rb.colliders() {
+                if !is_marked(&self.marked, ch) {
+                    continue;
+                }
+                any_marked = true;
+                if !moving {
+                    continue;
+                }
+                let Some(co) = colliders.get_mut(ch) else {
+                    continue;
+                };
+                if co
+                    .active_hooks()
+                    .contains(ActiveHooks::MODIFY_SOLVER_CONTACTS)
+                {
+                    continue; // the user's own flag: leave it, the hook runs anyway
+                }
+                co.set_active_hooks(co.active_hooks() | ActiveHooks::MODIFY_SOLVER_CONTACTS);
+                let (index, _) = ch.into_raw_parts();
+                let index = index as usize;
+                if self.ours.len() <= index {
+                    self.ours.resize(index + 1, false);
+                }
+                self.ours[index] = true;
+                self.flagged.push(ch);
+            }
+            if any_marked && self.mode == Mode::Exact {
+                let (index, generation) = handle.into_raw_parts();
+                let index = index as usize;
+                if self.start.len() <= index {
+                    self.start.resize(index + 1, Start::default());
+                }
+                self.start[index] = Start {
+                    tag: generation.wrapping_add(1),
+                    translation: rb.translation(),
+                };
+            }
+        }
+    }
+
+    /// Move the hook's list into `sorted`, in a deterministic order (the hook
+    /// may run on several threads), without duplicates (CCD substeps call
+    /// the hook again for the same pair).
+    fn collect_candidates(&mut self) {
+        self.sorted.clear();
+        {
+            let mut list = self.candidates.lock().unwrap_or_else(|e| e.into_inner());
+            self.sorted.append(&mut list);
+        }
+        self.sorted
+            .sort_by(|a, b| a.key().cmp(&b.key()).then(a.dist.total_cmp(&b.dist)));
+        self.sorted.dedup_by_key(|c| c.key());
+    }
+
+    /// Restitution mode: rapier's solver applied the law's restitution;
+    /// report the law's outcome for the velocities it saw at detection.
+    fn report_restitution(&mut self) {
+        for i in 0..self.sorted.len() {
+            let c = self.sorted[i];
+            let (Ok(b1), Ok(b2)) = (checked(&c.start1), checked(&c.start2)) else {
+                self.skip(&c);
+                continue;
+            };
+            if let Some(impact) = self.law.resolve_unit(&b1, &b2, &to_law(c.normal)) {
+                self.push_event(&c, 0.0, c.point, &impact);
+            }
+        }
+    }
+
+    /// Impulse mode: the law, pair by pair in a fixed order, on the
+    /// velocities rapier produced; positions moved as if each impact
+    /// happened at the start of the step.
+    fn apply_impulses(&mut self, bodies: &mut RigidBodySet, dt: Real) {
+        for i in 0..self.sorted.len() {
+            let c = self.sorted[i];
+            let (l1, l2) = (law_body(bodies, c.rb1), law_body(bodies, c.rb2));
+            let (Ok(b1), Ok(b2)) = (checked(&l1), checked(&l2)) else {
+                self.skip(&c);
+                continue;
+            };
+            let Some(impact) = self.law.resolve_unit(&b1, &b2, &to_law(c.normal)) else {
+                continue;
+            };
+            apply(bodies, c.rb1, &impact.delta_v_a, dt);
+            apply(bodies, c.rb2, &impact.delta_v_b, dt);
+            self.push_event(&c, 0.0, c.point, &impact);
+        }
+    }
+
+    /// Count and log a pair skipped for non-finite body data.
+    pub(crate) fn skip(&mut self, c: &Candidate) {
+        log::warn!(
+            "kimpact: skipped the pair {:?}/{:?}: a body has a non-finite velocity or mass",
+            c.collider1,
+            c.collider2
+        );
+        self.stats.skipped_non_finite += 1;
+    }
+
+    pub(crate) fn push_event(
+        &mut self,
+        c: &Candidate,
+        time: Real,
+        point: Vector,
+        impact: &kimpact::Impact<Real, { crate::math::DIM }>,
+    ) {
+        self.stats.impacts += 1;
+        self.stats.clamped += u64::from(impact.clamped);
+        self.stats.dissipated += f64::from(impact.dissipated);
+        self.events.push(ImpactEvent {
+            collider1: c.collider1,
+            collider2: c.collider2,
+            time,
+            point,
+            normal: from_law(&impact.normal),
+            impulse: impact.impulse,
+            approach_speed: impact.approach_speed,
+            restitution: impact.restitution,
+            dissipated: impact.dissipated,
+            clamped: impact.clamped,
+        });
+    }
+
+    pub(crate) fn law_ref(&self) -> &Law<Real> {
+        &self.law
+    }
+
+    pub(crate) fn config_ref(&self) -> &Config {
+        &self.config
+    }
+
+    pub(crate) fn marked_ref(&self) -> &[u32] {
+        &self.marked
+    }
+
+    pub(crate) fn candidates_sorted(&self) -> &[Candidate] {
+        &self.sorted
+    }
+
+    pub(crate) fn start_of(&self, handle: RigidBodyHandle) -> Option<Vector> {
+        let (index, generation) = handle.into_raw_parts();
+        self.start
+            .get(index as usize)
+            .filter(|s| s.tag == generation.wrapping_add(1))
+            .map(|s| s.translation)
+    }
+
+    pub(crate) fn count_cap_hit(&mut self) {
+        self.stats.event_cap_hits += 1;
+    }
+}
+
+/// Add `dv` to a dynamic body's velocity and `dv·dt` to its position (the
+/// impact counted from the start of the step), waking it.
+fn apply(bodies: &mut RigidBodySet, handle: Option<RigidBodyHandle>, dv: &LawVector, dt: Real) {
+    let Some(rb) = handle.and_then(|h| bodies.get_mut(h)) else {
+        return;
+    };
+    if !rb.is_dynamic() {
+        return;
+    }
+    let dv = from_law(dv);
+    let v = rb.linvel() + dv;
+    let x = rb.translation() + dv * dt;
+    rb.set_linvel(v, true);
+    rb.set_translation(x, true);
+}

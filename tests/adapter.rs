@@ -1,0 +1,38 @@
+//! The rapier adapters against the core law: the same cases in 2D and 3D,
+//! f32 and f64 (one source, included four times).
+
+mod d2 {
+    use kimpact2d as k;
+    mod world {
+        use kimpact2d as k;
+        include!("cases/world.rs");
+    }
+    include!("cases/adapter.rs");
+}
+
+mod d3 {
+    use kimpact3d as k;
+    mod world {
+        use kimpact3d as k;
+        include!("cases/world.rs");
+    }
+    include!("cases/adapter.rs");
+}
+
+mod d2_f64 {
+    use kimpact2d_f64 as k;
+    mod world {
+        use kimpact2d_f64 as k;
+        include!("cases/world.rs");
+    }
+    include!("cases/adapter.rs");
+}
+
+mod d3_f64 {
+    use kimpact3d_f64 as k;
+    mod world {
+        use kimpact3d_f64 as k;
+        include!("cases/world.rs");
+    }
+    include!("cases/adapter.rs");
+}

@@ -1,0 +1,88 @@
+// A small rapier world for the tests, written once for 2D/3D and f32/f64:
+// included into modules that alias the adapter crate as `k`.
+#[allow(unused_imports)]
+use k::math::{DIM, Real, Vector};
+#[allow(unused_imports)]
+use k::rapier::prelude::*;
+#[allow(unused_imports)]
+use k::{Kimpact, Law, LawParams, Mode};
+
+pub struct TestWorld {
+    pub world: PhysicsWorld,
+    pub kimpact: Kimpact,
+}
+
+#[allow(dead_code)]
+impl TestWorld {
+    pub fn new(mode: Mode, dissipation: Real, gravity: Vector) -> Self {
+        let mut world = PhysicsWorld::new();
+        world.gravity = gravity;
+        let law = Law::new(LawParams { dissipation, ..Default::default() }).unwrap();
+        Self { world, kimpact: Kimpact::new(law, mode) }
+    }
+
+    /// A frictionless ball of mass `mass`, marked.
+    pub fn ball(&mut self, position: Vector, velocity: Vector, radius: Real, mass: Real) -> (RigidBodyHandle, ColliderHandle) {
+        let body = RigidBodyBuilder::dynamic().translation(position).linvel(velocity).can_sleep(false);
+        let collider = ColliderBuilder::ball(radius).mass(mass).friction(0.0).restitution(1.0);
+        let (b, c) = self.world.insert(body, collider);
+        self.kimpact.mark(c);
+        (b, c)
+    }
+
+    /// A fixed box (a wall), frictionless, unmarked (walls meet the law as
+    /// fixed partners).
+    pub fn wall(&mut self, center: Vector, half_extents: Vector) -> ColliderHandle {
+        let body = RigidBodyBuilder::fixed().translation(center);
+        let b = self.world.insert_body(body);
+        let collider = k::math::cuboid(half_extents).friction(0.0).restitution(1.0);
+        self.world.insert_collider(collider, Some(b))
+    }
+
+    /// A closed box of inner half-size `half` centred at the origin, walls
+    /// `thickness` thick.
+    pub fn closed_box(&mut self, half: Real, thickness: Real) {
+        let t = thickness;
+        for axis in 0..DIM {
+            for sign in [-1.0, 1.0] {
+                let mut center = Vector::ZERO;
+                center[axis] = sign * (half + t);
+                let mut he = Vector::splat(half + 2.0 * t);
+                he[axis] = t;
+                self.wall(center, he);
+            }
+        }
+    }
+
+    pub fn step(&mut self) {
+        self.kimpact.step_world(&mut self.world, &(), &());
+    }
+
+    pub fn vel(&self, b: RigidBodyHandle) -> Vector {
+        self.world.bodies[b].linvel()
+    }
+
+    pub fn pos(&self, b: RigidBodyHandle) -> Vector {
+        self.world.bodies[b].translation()
+    }
+
+    pub fn kinetic(&self) -> f64 {
+        self.world
+            .bodies
+            .iter()
+            .filter(|(_, b)| b.is_dynamic())
+            .map(|(_, b)| 0.5 * f64::from(b.mass()) * f64::from(b.linvel().length_squared()))
+            .sum()
+    }
+
+    pub fn potential(&self) -> f64 {
+        let g = self.world.gravity;
+        self.world
+            .bodies
+            .iter()
+            .filter(|(_, b)| b.is_dynamic())
+            .map(|(_, b)| -f64::from(b.mass()) * f64::from(g.dot(b.translation())))
+            .sum()
+    }
+}
+
