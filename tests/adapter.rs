@@ -1,5 +1,7 @@
 //! The rapier adapters against the core law: the same cases in 2D and 3D,
 //! f32 and f64 (one source, included four times).
+// `f64::from(x)` converts in the f32 builds and is the identity in the f64 ones.
+#![allow(clippy::useless_conversion, clippy::unnecessary_cast)]
 
 mod d2 {
     use kimpact2d as k;
@@ -26,6 +28,7 @@ mod d2_f64 {
         include!("cases/world.rs");
     }
     include!("cases/adapter.rs");
+    include!("cases/long.rs");
 }
 
 mod d3_f64 {
@@ -35,4 +38,5 @@ mod d3_f64 {
         include!("cases/world.rs");
     }
     include!("cases/adapter.rs");
+    include!("cases/long.rs");
 }

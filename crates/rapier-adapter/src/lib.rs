@@ -20,6 +20,9 @@
 //! Everything not marked keeps rapier's behaviour.
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
+// One source for f32 and f64: `f64::from(x)` is a conversion in one build
+// and the identity in the other.
+#![allow(clippy::useless_conversion)]
 
 #[cfg(not(any(feature = "f32", feature = "f64")))]
 compile_error!("kimpact's rapier adapter needs the `f32` or the `f64` feature");

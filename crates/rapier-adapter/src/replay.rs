@@ -300,7 +300,7 @@ impl Replay {
         let hit = cast_shapes(&pos1, va, s1, &pos2, vb, s2, options).ok()??;
         let normal = pos1.transform_vector(hit.normal1);
         let len = normal.length();
-        if !(len > 0.0) {
+        if len.is_nan() || len <= 0.0 {
             return None;
         }
         Some((
@@ -312,6 +312,7 @@ impl Replay {
 
     /// Bring the governed contacts of node `n`'s marked colliders into the
     /// replay (once), and predict them from time `t`.
+    #[allow(clippy::too_many_arguments)]
     fn expand(
         &mut self,
         k: &Kimpact,
@@ -364,7 +365,7 @@ impl Replay {
         rest_speed: Real,
     ) {
         self.clear();
-        if k.candidates_sorted().is_empty() || !(dt > 0.0) {
+        if k.candidates_sorted().is_empty() || dt.is_nan() || dt <= 0.0 {
             return;
         }
         for j in 0..k.candidates_sorted().len() {

@@ -1,0 +1,99 @@
+// Long f64 runs: the elastic gas in a closed box and the ball pit.
+
+/// A deterministic generator for positions and velocities.
+struct Lcg(u64);
+impl Lcg {
+    fn next(&mut self) -> Real {
+        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        ((self.0 >> 11) as f64 / (1u64 << 53) as f64) as Real
+    }
+}
+
+/// `n` balls of radius `r` on a grid inside a box of inner half-size `half`.
+fn fill(w: &mut TestWorld, n: usize, r: Real, half: Real, speed: Real, masses: &[Real]) -> Vec<RigidBodyHandle> {
+    let mut rng = Lcg(42);
+    let per_side = ((n as f64).powf(1.0 / DIM as f64).ceil()) as usize;
+    let spacing = 2.0 * half / per_side as Real;
+    assert!(spacing > 2.0 * r, "the grid must not overlap");
+    let mut out = Vec::new();
+    let mut i = 0usize;
+    while out.len() < n {
+        let mut p = Vector::ZERO;
+        let mut rest = i;
+        for axis in 0..DIM {
+            p[axis] = -half + spacing * (0.5 + (rest % per_side) as Real);
+            rest /= per_side;
+        }
+        let mut v = Vector::ZERO;
+        for axis in 0..DIM {
+            v[axis] = speed * (2.0 * rng.next() - 1.0);
+        }
+        let m = masses[out.len() % masses.len()];
+        out.push(w.ball(p, v, r, m).0);
+        i += 1;
+    }
+    out
+}
+
+fn inside(w: &TestWorld, balls: &[RigidBodyHandle], half: Real) -> bool {
+    balls.iter().all(|&b| {
+        let p = w.pos(b);
+        p.is_finite() && (0..DIM).all(|a| p[a].abs() <= half)
+    })
+}
+
+/// 500 elastic balls in a closed box, no gravity, 10,000 steps.
+fn gas(mode: Mode, steps: usize) -> (f64, f64, bool) {
+    let mut w = TestWorld::new(mode, 0.0, Vector::ZERO);
+    let r = 0.5;
+    let half = if DIM == 2 { 22.0 } else { 7.0 };
+    w.closed_box(half, 1.0);
+    let balls = fill(&mut w, 500, r, half, 3.0, &[1.0]);
+    let e0 = w.kinetic();
+    for _ in 0..steps {
+        w.step();
+    }
+    (e0, w.kinetic(), inside(&w, &balls, half))
+}
+
+#[test]
+fn exact_elastic_gas_keeps_its_energy_for_10000_steps() {
+    let (e0, e1, inside) = gas(Mode::Exact, 10_000);
+    assert!(inside, "a ball escaped the box");
+    assert!(((e1 - e0) / e0).abs() < 1e-9, "exact: energy {e0} -> {e1} (relative {:e})", (e1 - e0) / e0);
+    let (n0, n1, _) = gas(Mode::Native, 10_000);
+    eprintln!("gas {DIM}D: exact keeps {:.3e} relative; native loses {:.1}%", (e1 - e0) / e0, 100.0 * (1.0 - n1 / n0));
+}
+
+/// 1,000 balls of mixed masses dropped into an open box under gravity.
+fn pit(mode: Mode, steps: usize) -> (f64, f64, bool) {
+    let mut w = TestWorld::new(mode, 0.01, -Vector::Y * 9.81);
+    let r = 0.25;
+    let half = if DIM == 2 { 12.0 } else { 4.0 };
+    w.closed_box(half, 1.0);
+    let balls = fill(&mut w, 1000, r, half, 1.0, &[1.0, 2.0, 0.5]);
+    let total = |w: &TestWorld| w.kinetic() + w.potential();
+    let e0 = total(&w);
+    let mut max_rise: f64 = 0.0;
+    for _ in 0..steps {
+        w.step();
+        max_rise = max_rise.max(total(&w) - e0);
+    }
+    // Energies are measured from the floor, so the scale is the pile's
+    // potential energy plus its kinetic energy.
+    let floor = w.world.bodies.iter().filter(|(_, b)| b.is_dynamic()).map(|(_, b)| f64::from(b.mass()) * 9.81 * f64::from(half)).sum::<f64>();
+    (max_rise / (e0 + floor), w.kinetic(), inside(&w, &balls, half))
+}
+
+#[test]
+fn ball_pits_never_gain_energy_in_any_mode() {
+    for mode in Mode::ALL {
+        let (rise, kinetic, inside) = pit(mode, 400);
+        eprintln!("pit {DIM}D {mode}: largest energy rise {rise:.2e} of the total; final kinetic {kinetic:.3e}");
+        assert!(inside, "{mode}: a ball left the pit");
+        assert!(kinetic.is_finite());
+        // rapier's own contact correction may add a little (it does in
+        // native mode); the law must not add more than that allowance.
+        assert!(rise < 1e-3, "{mode}: energy rose by {rise:e} of the total");
+    }
+}
