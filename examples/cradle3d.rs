@@ -1,6 +1,6 @@
 //! Newton's cradle in rapier3d, first plain, then with kimpact.
 //!
-//! `cargo run --release --example cradle3d`
+//! `cargo run --example cradle3d`
 //!
 //! A plain rapier simulation (restitution 1) passes only part of the
 //! incoming ball's energy down the row; the same code with kimpact's

@@ -1,6 +1,6 @@
 //! An elastic hard-disk gas in a closed box, rapier2d, every mode.
 //!
-//! `cargo run --release --example gas2d`
+//! `cargo run --example gas2d`
 //!
 //! 200 disks with restitution 1 bounce in a box for 3,000 steps. Plain
 //! rapier loses kinetic energy; kimpact's `exact` mode keeps it to rounding.
