@@ -45,11 +45,7 @@ mod d3_f64 {
     include!("cases/adapter.rs");
     include!("cases/long.rs");
 
-    /// Known defect: in 3D the exact mode loses 1.3e-5 of the gas's energy
-    /// over 10,000 steps (2264.0388 -> 2264.0086); 2D keeps it to 6e-14. The
-    /// bound stays at 1e-9 until the leak is found.
     #[test]
-    #[ignore = "known defect: the 3D exact gas loses 1.3e-5 of its energy (issue 3)"]
     fn exact_elastic_gas_keeps_its_energy_for_10000_steps() {
         exact_gas_check();
     }

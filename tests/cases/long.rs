@@ -57,7 +57,7 @@ fn gas(mode: Mode, steps: usize) -> (f64, f64, bool) {
 }
 
 /// The exact mode keeps a 500-ball elastic gas's energy to 1e-9 over
-/// 10,000 steps; called from `adapter.rs` (ignored in 3D: known defect).
+/// 10,000 steps (f64 only; called from `adapter.rs`).
 fn exact_gas_check() {
     let (e0, e1, inside) = gas(Mode::Exact, 10_000);
     assert!(inside, "a ball escaped the box");

@@ -228,6 +228,17 @@ pub struct Impact<T: RealField + Copy, const D: usize> {
     pub clamped: bool,
 }
 
+/// `M / μ` of a pair, evaluated lazily (elastic impacts never need it).
+#[derive(Copy, Clone, Debug)]
+enum Growth<T> {
+    /// Two finite masses with ratio `t = m_small / m_large`: `t + 2 + 1/t`.
+    Ratio(T),
+    /// An immovable partner under `OwnMass`: 1.
+    One,
+    /// An immovable partner under `Literal`: infinite.
+    Infinite,
+}
+
 /// The mass factors of a pair, computed without multiplying masses.
 #[derive(Copy, Clone, Debug)]
 struct PairMasses<T> {
@@ -237,9 +248,8 @@ struct PairMasses<T> {
     frac_b: T,
     /// `μ = m_a m_b / M` (the finite mass against an immovable partner).
     reduced: T,
-    /// `M / μ = M² / (m_a m_b)`: 1 against an immovable partner under
-    /// `OwnMass`, `None` (infinite) under `Literal`.
-    growth: Option<T>,
+    /// `M / μ = M² / (m_a m_b)`, computed only when d̃ > 0.
+    growth: Growth<T>,
     /// `M`, only for reporting `k`; `None` when infinite.
     total: Option<T>,
     /// Whether one partner is immovable.
@@ -408,8 +418,8 @@ impl<T: RealField + Copy> Law<T> {
     fn pair_masses(&self, a: Mass<T>, b: Mass<T>) -> Option<PairMasses<T>> {
         let one = T::one();
         let wall_growth = match self.fixed_partner {
-            FixedPartner::OwnMass => Some(one),
-            FixedPartner::Literal => None,
+            FixedPartner::OwnMass => Growth::One,
+            FixedPartner::Literal => Growth::Infinite,
         };
         match (a, b) {
             (Mass::Finite(ma), Mass::Finite(mb)) => {
@@ -418,9 +428,8 @@ impl<T: RealField + Copy> Law<T> {
                 // of two masses.
                 let t = lo / hi;
                 let one_plus_t = one + t;
-                let frac_lo = t / one_plus_t;
                 let frac_hi = one / one_plus_t;
-                let growth = t + (one + one) + one / t;
+                let frac_lo = t * frac_hi;
                 let (frac_a, frac_b) = if ma <= mb {
                     (frac_lo, frac_hi)
                 } else {
@@ -430,7 +439,7 @@ impl<T: RealField + Copy> Law<T> {
                     frac_a,
                     frac_b,
                     reduced: lo * frac_hi,
-                    growth: Some(growth),
+                    growth: Growth::Ratio(t),
                     total: Some(ma + mb),
                     wall: false,
                 })
@@ -458,7 +467,7 @@ impl<T: RealField + Copy> Law<T> {
     /// `q = 2 d / (μ u²)` from `ρ = (|w|/u)²`, then the effective
     /// restitution. `q` may be infinite (grazing impacts, extreme mass
     /// ratios, literal walls): that is the clamped case, never a NaN.
-    fn coefficient(&self, pair: &PairMasses<T>, rho: T) -> (T, Restitution<T>) {
+    fn coefficient(&self, pair: &PairMasses<T>, rho: impl FnOnce() -> T) -> (T, Restitution<T>) {
         let dissipation = if pair.wall && self.fixed_partner == FixedPartner::OwnMass {
             self.wall_dissipation
         } else {
@@ -474,9 +483,12 @@ impl<T: RealField + Copy> Law<T> {
                 },
             );
         }
-        let q = pair
-            .growth
-            .map(|growth| (dissipation + dissipation) * rho * growth);
+        let growth = match pair.growth {
+            Growth::Ratio(t) => Some(t + (one + one) + one / t),
+            Growth::One => Some(one),
+            Growth::Infinite => None,
+        };
+        let q = growth.map(|growth| (dissipation + dissipation) * rho() * growth);
         match q {
             Some(q) if q <= one => (
                 q,
@@ -543,7 +555,7 @@ impl<T: RealField + Copy> Law<T> {
         };
         let ratio = tangential_speed / approach_speed;
         let rho = T::one() + ratio * ratio;
-        Ok(Some(self.coefficient(&pair, rho).1))
+        Ok(Some(self.coefficient(&pair, || rho).1))
     }
 
     /// Resolve one impact between `a` and `b`, `normal` pointing from `a`
@@ -582,8 +594,8 @@ impl<T: RealField + Copy> Law<T> {
             return None;
         }
         let pair = self.pair_masses(a.mass, b.mass)?;
-        let rho = (w / approach_speed).norm_squared();
-        let (q, restitution) = self.coefficient(&pair, rho);
+        let (q, restitution) =
+            self.coefficient(&pair, || (w * (T::one() / approach_speed)).norm_squared());
         let e = restitution.coefficient;
         let s = approach_speed * (T::one() + e);
         let delta_v_a = n * (-(pair.frac_b * s));

@@ -11,6 +11,9 @@
 //! changes brings its touching neighbours into the replay (chains: a row of
 //! touching balls is a chain of impacts within one step). Pairs first seen
 //! overlapping are rewound into the previous step, along the same lines.
+//! The law itself acts on the velocities the bodies really have (rapier's
+//! end-of-step velocity plus the changes so far), which differ from the path
+//! velocity when rapier's solver pushed a body apart from an overlap.
 //! At the end each body that took part gets `x = x(dt)` and
 //! `v = v_rapier + Σ Δv`.
 
@@ -42,7 +45,13 @@ struct Node {
     /// rapier's straight-line velocity over the step (dynamic bodies).
     v_bar: Vector,
     p: Vector,
+    /// Path velocity: moves the body (`v̄ + ΣΔv`).
     v: Vector,
+    /// Dynamic velocity: what the law sees (`v_rapier + ΣΔv`). It differs
+    /// from `v` when rapier's solver pushed the body this step (position
+    /// correction), so that the law conserves the energy of the velocities
+    /// the bodies really have.
+    u: Vector,
     t_ref: Real,
     version: u32,
     expanded: bool,
@@ -157,6 +166,7 @@ impl Replay {
                     v_bar,
                     p: x0,
                     v: v_bar,
+                    u: v1,
                     t_ref: 0.0,
                     version: 0,
                     expanded: false,
@@ -173,6 +183,7 @@ impl Replay {
                     v_bar: v,
                     p: x1,
                     v,
+                    u: v,
                     t_ref: dt,
                     version: 0,
                     expanded: true,
@@ -186,6 +197,7 @@ impl Replay {
                 v_bar: Vector::ZERO,
                 p: Vector::ZERO,
                 v: Vector::ZERO,
+                u: Vector::ZERO,
                 t_ref: dt,
                 version: 0,
                 expanded: true,
@@ -398,11 +410,11 @@ impl Replay {
             let (mb, rb2) = mass(&nb, pair.c2);
             let la = LawBody {
                 mass: ma,
-                velocity: na.v,
+                velocity: na.u,
             };
             let lb = LawBody {
                 mass: mb,
-                velocity: nb.v,
+                velocity: nb.u,
             };
             let candidate = Candidate {
                 collider1: pair.c1,
@@ -433,7 +445,9 @@ impl Replay {
                 }
                 node.p = node.at(e.t);
                 node.t_ref = e.t;
-                node.v += from_law(&dv);
+                let dv = from_law(&dv);
+                node.v += dv;
+                node.u += dv;
                 node.version += 1;
                 node.hit = true;
             }
@@ -462,7 +476,7 @@ impl Replay {
                 continue;
             };
             let x = node.at(dt);
-            let v = rb.linvel() + (node.v - node.v_bar);
+            let v = node.u;
             if x.is_finite() && v.is_finite() {
                 rb.set_translation(x, true);
                 rb.set_linvel(v, true);
