@@ -42,8 +42,6 @@ struct Node {
     dynamic: bool,
     /// Position at the end of rapier's step.
     x1: Vector,
-    /// rapier's straight-line velocity over the step (dynamic bodies).
-    v_bar: Vector,
     p: Vector,
     /// Path velocity: moves the body (`v̄ + ΣΔv`).
     v: Vector,
@@ -163,7 +161,6 @@ impl Replay {
                     key,
                     dynamic: true,
                     x1,
-                    v_bar,
                     p: x0,
                     v: v_bar,
                     u: v1,
@@ -180,7 +177,6 @@ impl Replay {
                     key,
                     dynamic: false,
                     x1,
-                    v_bar: v,
                     p: x1,
                     v,
                     u: v,
@@ -194,7 +190,6 @@ impl Replay {
                 key,
                 dynamic: false,
                 x1: Vector::ZERO,
-                v_bar: Vector::ZERO,
                 p: Vector::ZERO,
                 v: Vector::ZERO,
                 u: Vector::ZERO,
