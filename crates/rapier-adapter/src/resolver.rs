@@ -81,7 +81,17 @@ struct HookState<'a> {
     dt: Real,
     margin: Real,
     candidates: &'a Mutex<Vec<Candidate>>,
+    /// Pairs cut off by the runtime guard this step.
+    guarded: &'a std::sync::atomic::AtomicU64,
     user: &'a dyn PhysicsHooks,
+}
+
+fn finite_body(b: &LawBody) -> bool {
+    b.velocity.is_finite()
+        && match b.mass {
+            Mass::Finite(m) => m.is_finite() && m > 0.0,
+            Mass::Infinite => true,
+        }
 }
 
 /// How a body takes part in the law.
@@ -192,6 +202,14 @@ impl PhysicsHooks for HookState<'_> {
         if rigid.solver_contacts.is_empty() {
             return;
         }
+        // Runtime guard: a body with a non-finite velocity or mass is cut
+        // off from its law partners (rapier's solver would spread the NaN).
+        if !(finite_body(&b1) && finite_body(&b2)) {
+            rigid.solver_contacts.clear();
+            self.guarded
+                .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            return;
+        }
         let n = *rigid.normal;
         let w = b2.velocity - b1.velocity;
         let approach = -w.dot(n);
@@ -292,6 +310,7 @@ pub struct Kimpact {
     /// Colliders whose hook flag we set this step.
     flagged: Vec<ColliderHandle>,
     candidates: Mutex<Vec<Candidate>>,
+    guarded: std::sync::atomic::AtomicU64,
     /// Scratch: the candidates of this step, sorted.
     sorted: Vec<Candidate>,
     /// Per body index: start-of-step translation (exact mode).
@@ -317,6 +336,7 @@ impl Kimpact {
             ours: Vec::new(),
             flagged: Vec::new(),
             candidates: Mutex::new(Vec::new()),
+            guarded: std::sync::atomic::AtomicU64::new(0),
             sorted: Vec::new(),
             start: Vec::new(),
             events: Vec::new(),
@@ -442,7 +462,7 @@ impl Kimpact {
         let dt = integration_parameters.dt;
         let g = gravity.length();
         let rest_speed = self.config.rest_speed.unwrap_or(2.0 * g * dt);
-        self.prepare(islands, bodies, colliders, rest_speed);
+        self.prepare(bodies, colliders, rest_speed);
         {
             let state = HookState {
                 law: &self.law,
@@ -454,6 +474,7 @@ impl Kimpact {
                 dt,
                 margin: g * dt,
                 candidates: &self.candidates,
+                guarded: &self.guarded,
                 user: hooks,
             };
             pipeline.step(
@@ -472,6 +493,13 @@ impl Kimpact {
                 events,
             );
         }
+        let guarded = self.guarded.swap(0, std::sync::atomic::Ordering::Relaxed);
+        if guarded > 0 {
+            log::warn!(
+                "kimpact: {guarded} contact(s) of bodies with non-finite velocity or mass were cut off"
+            );
+            self.stats.skipped_non_finite += guarded;
+        }
         self.collect_candidates();
         match self.mode {
             Mode::Native => {}
@@ -488,13 +516,7 @@ impl Kimpact {
     /// Set the hook flag on the marked colliders of moving, awake dynamic
     /// bodies (only they can start an impact), clear it elsewhere, and, in
     /// exact mode, store where those bodies start the step.
-    fn prepare(
-        &mut self,
-        islands: &IslandManager,
-        bodies: &RigidBodySet,
-        colliders: &mut ColliderSet,
-        rest_speed: Real,
-    ) {
+    fn prepare(&mut self, bodies: &RigidBodySet, colliders: &mut ColliderSet, rest_speed: Real) {
         for handle in self.flagged.drain(..) {
             let (index, _) = handle.into_raw_parts();
             if let Some(co) = colliders.get_mut(handle) {
@@ -508,13 +530,14 @@ impl Kimpact {
             return;
         }
         let threshold = 0.5 * rest_speed;
-        for handle in islands.active_bodies() {
-            let Some(rb) = bodies.get(handle) else {
-                continue;
-            };
-            if !rb.is_dynamic() {
+        // Every awake dynamic body, not just the island manager's active set:
+        // bodies inserted since the last step join that set only inside the
+        // next step, and their first impact must not slip through.
+        for (handle, rb) in bodies.iter() {
+            if !rb.is_dynamic() || rb.is_sleeping() {
                 continue;
             }
+
             let mut any_marked = false;
             let moving = rb.linvel().length() > threshold;
             for &ch in rb.colliders() {
