@@ -1,0 +1,284 @@
+//! The reference simulator against a brute-force event-driven simulation
+//! written here from scratch: every ball advanced at every event, every
+//! pair and every wall examined for the next event (O(N²) per event, no
+//! cells, no queue, no lazy state). Both must make the same impacts and
+//! follow the same trajectories.
+//!
+//! Hard-ball dynamics is chaotic: rounding differences (the two compute
+//! positions along different paths) grow by a factor of order mean free
+//! path over diameter at every impact, so trajectories can only agree to
+//! 1e-9 over a few dozen impacts per ball. The windows below are chosen so,
+//! and the largest deviation seen is asserted, not just the final one.
+
+use kimpact::Law;
+use kimpact_reference::nalgebra::SVector;
+use kimpact_reference::{Ball, BoxBounds, Reference};
+
+mod common;
+use common::{cube, lattice_gas};
+
+/// The brute-force simulation.
+struct Brute<const D: usize> {
+    balls: Vec<Ball<D>>,
+    bounds: BoxBounds<D>,
+    gravity: SVector<f64, D>,
+    law: Law<f64>,
+    time: f64,
+    ball_impacts: u64,
+    wall_impacts: u64,
+}
+
+#[derive(Copy, Clone, Debug)]
+enum Next {
+    Pair(usize, usize),
+    /// Ball, axis, upper side.
+    Wall(usize, usize, bool),
+}
+
+/// Smallest root `t >= 0` of `a t² + b t + c = 0` at which the quadratic
+/// goes from positive to non-positive (`c >= 0` is a gap), by the textbook
+/// stable formula `q = −(b + sign(b) √Δ)/2`, roots `q/a` and `c/q`.
+fn first_root(a: f64, b: f64, c: f64) -> Option<f64> {
+    let c = c.max(0.0);
+    if a == 0.0 {
+        return (b < 0.0).then(|| c / -b);
+    }
+    let disc = b * b - 4.0 * a * c;
+    if disc < 0.0 {
+        return None;
+    }
+    let q = -0.5 * (b + b.signum() * disc.sqrt());
+    let (r1, r2) = (q / a, if q != 0.0 { c / q } else { 0.0 });
+    let (lo, hi) = if r1 <= r2 { (r1, r2) } else { (r2, r1) };
+    // Where the gap closes: the derivative 2 a t + b must be <= 0.
+    [lo, hi]
+        .into_iter()
+        .find(|&t| t >= 0.0 && 2.0 * a * t + b <= 0.0)
+}
+
+impl<const D: usize> Brute<D> {
+    fn next(&self) -> Option<(f64, Next)> {
+        let mut best: Option<(f64, Next)> = None;
+        let mut consider = |t: f64, what: Next| {
+            if best.is_none_or(|(b, _)| t < b) {
+                best = Some((t, what));
+            }
+        };
+        for (i, a) in self.balls.iter().enumerate() {
+            for (j, b) in self.balls.iter().enumerate().skip(i + 1) {
+                // |r + w t|² = σ²: (w·w) t² + 2 (r·w) t + (r·r − σ²) = 0.
+                let r = b.position - a.position;
+                let w = b.velocity - a.velocity;
+                let sigma = a.radius + b.radius;
+                if r.dot(&w) < 0.0
+                    && let Some(t) = first_root(
+                        w.norm_squared(),
+                        2.0 * r.dot(&w),
+                        r.norm_squared() - sigma * sigma,
+                    )
+                {
+                    consider(t, Next::Pair(i, j));
+                }
+            }
+            for k in 0..D {
+                let (x, v, g) = (a.position[k], a.velocity[k], self.gravity[k]);
+                let lower = x - (self.bounds.lo[k] + a.radius);
+                if let Some(t) = first_root(0.5 * g, v, lower) {
+                    consider(t, Next::Wall(i, k, false));
+                }
+                let upper = self.bounds.hi[k] - a.radius - x;
+                if let Some(t) = first_root(-0.5 * g, -v, upper) {
+                    consider(t, Next::Wall(i, k, true));
+                }
+            }
+        }
+        best
+    }
+
+    fn drift(&mut self, dt: f64) {
+        for b in &mut self.balls {
+            b.position += b.velocity * dt + self.gravity * (0.5 * dt * dt);
+            b.velocity += self.gravity * dt;
+        }
+        self.time += dt;
+    }
+
+    fn advance_to(&mut self, target: f64) {
+        while let Some((dt, what)) = self.next() {
+            if self.time + dt > target {
+                break;
+            }
+            self.drift(dt);
+            match what {
+                Next::Pair(i, j) => {
+                    let (a, b) = (self.balls[i], self.balls[j]);
+                    let n = (b.position - a.position).normalize();
+                    let body = |x: &Ball<D>| kimpact::Body::new(x.mass, x.velocity).unwrap();
+                    if let Some(imp) = self.law.resolve_unit(&body(&a), &body(&b), &n) {
+                        self.balls[i].velocity += imp.delta_v_a;
+                        self.balls[j].velocity += imp.delta_v_b;
+                        self.ball_impacts += 1;
+                    }
+                }
+                Next::Wall(i, k, upper) => {
+                    let b = &mut self.balls[i];
+                    let mut n = SVector::<f64, D>::zeros();
+                    n[k] = if upper { 1.0 } else { -1.0 };
+                    let ball = kimpact::Body::new(b.mass, b.velocity).unwrap();
+                    let wall = kimpact::Body::immovable(SVector::zeros()).unwrap();
+                    if let Some(imp) = self.law.resolve_unit(&ball, &wall, &n) {
+                        b.velocity += imp.delta_v_a;
+                        self.wall_impacts += 1;
+                    }
+                }
+            }
+        }
+        let rest = target - self.time;
+        self.drift(rest);
+    }
+}
+
+/// Run both from the same start and compare them at the end of each of
+/// `windows` windows of length `window`. With `resync`, the brute force
+/// restarts every window from the reference's state, so that each window
+/// checks a few dozen impacts to 1e-9 from identical states and chaos never
+/// accumulates; without it the whole run is one trajectory. Impact counts
+/// must agree throughout. Returns the largest deviation of a position or
+/// velocity component and the total number of impacts.
+fn compare<const D: usize>(
+    balls: Vec<Ball<D>>,
+    gravity: SVector<f64, D>,
+    law: Law<f64>,
+    windows: usize,
+    window: f64,
+    resync: bool,
+) -> (f64, u64) {
+    let bounds = cube::<D>(1.0);
+    let mut reference = Reference::new(balls.clone(), bounds, gravity, law).unwrap();
+    let mut brute = Brute {
+        balls,
+        bounds,
+        gravity,
+        law,
+        time: 0.0,
+        ball_impacts: 0,
+        wall_impacts: 0,
+    };
+    let mut worst: f64 = 0.0;
+    for step in 1..=windows {
+        let t = window * step as f64;
+        reference.advance_to(t).unwrap();
+        brute.advance_to(t);
+        for (a, b) in reference.balls().iter().zip(&brute.balls) {
+            worst = worst.max((a.position - b.position).amax());
+            worst = worst.max((a.velocity - b.velocity).amax());
+        }
+        assert_eq!(
+            (
+                reference.stats().ball_impacts,
+                reference.stats().wall_impacts
+            ),
+            (brute.ball_impacts, brute.wall_impacts),
+            "impact counts differ by t = {t}"
+        );
+        if resync {
+            brute.balls = reference.balls().to_vec();
+        }
+    }
+    (worst, reference.stats().impacts())
+}
+
+fn gas2(seed: u64) -> Vec<Ball<2>> {
+    lattice_gas::<2>(seed, 20, &cube(1.0), (0.04, 0.07), (0.5, 2.0), 1.0)
+}
+
+fn gas3(seed: u64) -> Vec<Ball<3>> {
+    lattice_gas::<3>(seed, 20, &cube(1.0), (0.08, 0.12), (0.5, 2.0), 1.0)
+}
+
+#[test]
+fn one_trajectory_agrees_with_brute_force_2d_and_3d() {
+    // One unbroken trajectory over ~100 impacts (5 per ball).
+    for seed in 1..=4 {
+        let (worst, impacts) = compare(
+            gas2(seed),
+            SVector::zeros(),
+            Law::elastic(),
+            10,
+            0.08,
+            false,
+        );
+        assert!(
+            worst < 1e-9,
+            "2D seed {seed}: deviation {worst:e} over {impacts} impacts"
+        );
+        assert!(impacts >= 50, "2D seed {seed}: only {impacts} impacts");
+        let (worst, impacts) = compare(
+            gas3(seed),
+            SVector::zeros(),
+            Law::elastic(),
+            10,
+            0.08,
+            false,
+        );
+        assert!(
+            worst < 1e-9,
+            "3D seed {seed}: deviation {worst:e} over {impacts} impacts"
+        );
+        assert!(impacts >= 50, "3D seed {seed}: only {impacts} impacts");
+    }
+}
+
+#[test]
+fn agrees_with_brute_force_2d() {
+    // 40 windows of ~25 impacts: ~1000 impacts, 50 per ball.
+    for seed in 1..=3 {
+        let (worst, impacts) =
+            compare(gas2(seed), SVector::zeros(), Law::elastic(), 40, 0.25, true);
+        assert!(
+            worst < 1e-9,
+            "seed {seed}: deviation {worst:e} over {impacts} impacts"
+        );
+        assert!(impacts > 800, "seed {seed}: only {impacts} impacts");
+    }
+}
+
+#[test]
+fn agrees_with_brute_force_3d() {
+    for seed in 1..=3 {
+        let (worst, impacts) =
+            compare(gas3(seed), SVector::zeros(), Law::elastic(), 40, 0.25, true);
+        assert!(
+            worst < 1e-9,
+            "seed {seed}: deviation {worst:e} over {impacts} impacts"
+        );
+        assert!(impacts > 800, "seed {seed}: only {impacts} impacts");
+    }
+}
+
+#[test]
+fn agrees_with_brute_force_inelastic_under_gravity() {
+    // Elastic walls: with dissipative ones a ball soon comes to rest on the
+    // wall gravity pushes it to (grazing wall impacts are clamped), which
+    // the stall guard reports (see the guard tests).
+    let law = Law::new(kimpact::LawParams {
+        dissipation: 0.01,
+        wall_dissipation: Some(0.0),
+        ..Default::default()
+    })
+    .unwrap();
+    let g2 = SVector::<f64, 2>::new(0.3, -2.0);
+    let (worst, impacts) = compare(gas2(11), g2, law, 20, 0.25, true);
+    assert!(
+        worst < 1e-9,
+        "2D: deviation {worst:e} over {impacts} impacts"
+    );
+    assert!(impacts > 200, "2D: only {impacts} impacts");
+    let g3 = SVector::<f64, 3>::new(0.0, -1.0, 0.5);
+    let (worst, impacts) = compare(gas3(12), g3, law, 20, 0.25, true);
+    assert!(
+        worst < 1e-9,
+        "3D: deviation {worst:e} over {impacts} impacts"
+    );
+    assert!(impacts > 200, "3D: only {impacts} impacts");
+}
