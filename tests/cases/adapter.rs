@@ -213,3 +213,48 @@ fn non_finite_velocities_never_spread() {
     }
     assert!(w.vel(b).is_finite() && w.pos(b).is_finite(), "NaN reached the partner: {:?}", w.vel(b));
 }
+
+/// A small gas with a wall box, every mode: the positions and velocities
+/// after 300 steps, as bits.
+fn gas_bits(mode: Mode) -> Vec<u64> {
+    let mut w = TestWorld::new(mode, 0.02, Vector::ZERO);
+    w.closed_box(5.0, 1.0);
+    let mut balls = Vec::new();
+    for i in 0..40 {
+        let mut p = Vector::ZERO;
+        p[0] = -4.0 + 2.0 * (i % 5) as Real;
+        p[1] = -4.0 + 1.1 * (i / 5) as Real;
+        let mut v = Vector::ZERO;
+        v[0] = ((i * 7 % 11) as Real - 5.0) * 0.7;
+        v[1] = ((i * 5 % 13) as Real - 6.0) * 0.5;
+        balls.push(w.ball(p, v, 0.4, 1.0 + (i % 3) as Real).0);
+    }
+    for _ in 0..300 {
+        w.step();
+    }
+    balls
+        .iter()
+        .flat_map(|&b| {
+            let (p, v) = (w.pos(b), w.vel(b));
+            (0..DIM).flat_map(move |a| [f64::from(p[a]).to_bits(), f64::from(v[a]).to_bits()])
+        })
+        .collect()
+}
+
+#[test]
+fn the_same_scene_twice_gives_bit_identical_bodies() {
+    for mode in Mode::ALL {
+        assert_eq!(gas_bits(mode), gas_bits(mode), "{mode}: not deterministic");
+    }
+}
+
+#[test]
+fn invalid_law_changes_at_run_time_are_rejected() {
+    let mut w = TestWorld::new(Mode::Exact, 0.01, Vector::ZERO);
+    let err = w.kimpact.set_law(LawParams { dissipation: -1.0, ..Default::default() });
+    assert!(matches!(err, Err(kimpact::LawError::InvalidDissipation { parameter: "dissipation", .. })));
+    assert_eq!(w.kimpact.law().dissipation(), 0.01, "the old value stays in force");
+    w.kimpact.set_law(LawParams { dissipation: 0.02, ..Default::default() }).unwrap();
+    assert_eq!(w.kimpact.law().dissipation(), 0.02);
+    let _ = Law::<Real>::elastic();
+}
