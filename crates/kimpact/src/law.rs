@@ -118,7 +118,16 @@ pub enum FixedPartner {
 /// into a [`Law`] with [`Law::new`], which checks them.
 #[derive(Copy, Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
+#[cfg_attr(
+    feature = "serde",
+    serde(
+        deny_unknown_fields,
+        bound(
+            serialize = "T: serde::Serialize",
+            deserialize = "T: RealField + Copy + serde::Deserialize<'de>"
+        )
+    )
+)]
 pub struct LawParams<T> {
     /// `d̃ ≥ 0`, the dissipation constant of the note. Zero is elastic.
     #[cfg_attr(feature = "serde", serde(default = "zero"))]
@@ -180,7 +189,19 @@ impl<T: RealField + Copy> Default for LawParams<T> {
 /// masses and speeds whose ratios the type can hold, and `e` is the
 /// effective restitution (`u' = e u`). The note's `k` is reported as `s/M`.
 #[derive(Copy, Clone, Debug, PartialEq)]
-pub struct Law<T> {
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(
+        try_from = "LawParams<T>",
+        into = "LawParams<T>",
+        bound(
+            serialize = "T: RealField + Copy + serde::Serialize",
+            deserialize = "T: RealField + Copy + serde::Deserialize<'de>"
+        )
+    )
+)]
+pub struct Law<T: RealField + Copy> {
     dissipation: T,
     wall_dissipation: T,
     wall_dissipation_set: bool,
@@ -332,6 +353,19 @@ fn half<T: RealField + Copy>() -> T {
 
 fn to_f64<T: RealField + Copy>(x: T) -> f64 {
     x.to_subset().unwrap_or(f64::NAN)
+}
+
+impl<T: RealField + Copy> TryFrom<LawParams<T>> for Law<T> {
+    type Error = LawError;
+    fn try_from(params: LawParams<T>) -> Result<Self, LawError> {
+        Law::new(params)
+    }
+}
+
+impl<T: RealField + Copy> From<Law<T>> for LawParams<T> {
+    fn from(law: Law<T>) -> Self {
+        law.params()
+    }
 }
 
 impl<T: RealField + Copy> Default for Law<T> {

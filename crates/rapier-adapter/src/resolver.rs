@@ -299,6 +299,11 @@ pub(crate) struct Start {
 
 /// kimpact's resolver: the law, the mode, the marked colliders, and the state
 /// kept between steps. See the crate docs for the three-line drop-in.
+///
+/// With the `serde-serialize` feature it serializes with rapier's world (the
+/// scratch space of a step is skipped: it is empty between steps), so a
+/// saved and restored simulation continues bit for bit.
+#[cfg_attr(feature = "serde-serialize", derive(serde::Serialize, serde::Deserialize))]
 pub struct Kimpact {
     law: Law<Real>,
     mode: Mode,
@@ -309,14 +314,19 @@ pub struct Kimpact {
     ours: Vec<bool>,
     /// Colliders whose hook flag we set this step.
     flagged: Vec<ColliderHandle>,
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
     candidates: Mutex<Vec<Candidate>>,
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
     guarded: std::sync::atomic::AtomicU64,
     /// Scratch: the candidates of this step, sorted.
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
     sorted: Vec<Candidate>,
     /// Per body index: start-of-step translation (exact mode).
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
     start: Vec<Start>,
     events: Vec<ImpactEvent>,
     stats: Stats,
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
     replay: Replay,
 }
 
