@@ -361,6 +361,63 @@ impl Replay {
         }
     }
 
+    /// Bodies that moved more than their own half-size this step can have
+    /// crossed a partner without a contact ever being seen (rapier's CCD
+    /// does not sweep dynamic against dynamic): query the broad phase along
+    /// their path and bring every governed collider it meets into the replay.
+    fn sweep_fast_bodies(
+        &mut self,
+        k: &Kimpact,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        broad_phase: &BroadPhaseBvh,
+        dt: Real,
+    ) {
+        let config = k.config_ref();
+        for &ch in k.flagged_ref() {
+            let Some(co) = colliders.get(ch) else {
+                continue;
+            };
+            let Some(handle) = co.parent() else { continue };
+            let (Some(rb), Some(x0)) = (bodies.get(handle), k.start_of(handle)) else {
+                continue;
+            };
+            let moved = rb.translation() - x0;
+            let aabb = co.compute_aabb();
+            let half = 0.5 * (aabb.maxs - aabb.mins).min_element();
+            if moved.length() <= half {
+                continue;
+            }
+            let mut start = *co.position();
+            start.translation -= moved;
+            let swept = co.compute_swept_aabb(&start);
+            let dispatcher = crate::rapier::parry::query::DefaultQueryDispatcher;
+            let query = broad_phase.as_query_pipeline(
+                &dispatcher,
+                bodies,
+                colliders,
+                QueryFilter::default(),
+            );
+            for (other, _) in query.intersect_aabb_conservative(swept) {
+                if other == ch
+                    || !governs(
+                        k.marked_ref(),
+                        config.fixed_partners,
+                        colliders,
+                        bodies,
+                        ch,
+                        other,
+                    )
+                {
+                    continue;
+                }
+                if let Some(i) = self.add_pair(k, bodies, colliders, ch, other, dt) {
+                    self.predict(colliders, i, 0.0, dt, true);
+                }
+            }
+        }
+    }
+
     /// Resolve this step's impacts in time order and write the results back.
     pub(crate) fn run(
         &mut self,
@@ -368,11 +425,12 @@ impl Replay {
         bodies: &mut RigidBodySet,
         colliders: &ColliderSet,
         narrow_phase: &NarrowPhase,
+        broad_phase: &BroadPhaseBvh,
         dt: Real,
         rest_speed: Real,
     ) {
         self.clear();
-        if k.candidates_sorted().is_empty() || dt.is_nan() || dt <= 0.0 {
+        if dt.is_nan() || dt <= 0.0 {
             return;
         }
         for j in 0..k.candidates_sorted().len() {
@@ -380,6 +438,10 @@ impl Replay {
             if let Some(i) = self.add_pair(k, bodies, colliders, c.collider1, c.collider2, dt) {
                 self.predict(colliders, i, 0.0, dt, true);
             }
+        }
+        self.sweep_fast_bodies(k, bodies, colliders, broad_phase, dt);
+        if self.heap.is_empty() {
+            return;
         }
         let max_events = k.config_ref().max_events_per_step;
         let mut events = 0usize;

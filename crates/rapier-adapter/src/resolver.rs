@@ -303,7 +303,10 @@ pub(crate) struct Start {
 /// With the `serde-serialize` feature it serializes with rapier's world (the
 /// scratch space of a step is skipped: it is empty between steps), so a
 /// saved and restored simulation continues bit for bit.
-#[cfg_attr(feature = "serde-serialize", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub struct Kimpact {
     law: Law<Real>,
     mode: Mode,
@@ -517,7 +520,15 @@ impl Kimpact {
             Mode::Impulse => self.apply_impulses(bodies, dt),
             Mode::Exact => {
                 let mut replay = std::mem::take(&mut self.replay);
-                replay.run(self, bodies, colliders, narrow_phase, dt, rest_speed);
+                replay.run(
+                    self,
+                    bodies,
+                    colliders,
+                    narrow_phase,
+                    broad_phase,
+                    dt,
+                    rest_speed,
+                );
                 self.replay = replay;
             }
         }
@@ -683,6 +694,10 @@ impl Kimpact {
 
     pub(crate) fn marked_ref(&self) -> &[u32] {
         &self.marked
+    }
+
+    pub(crate) fn flagged_ref(&self) -> &[ColliderHandle] {
+        &self.flagged
     }
 
     pub(crate) fn candidates_sorted(&self) -> &[Candidate] {
