@@ -419,6 +419,7 @@ impl Replay {
     }
 
     /// Resolve this step's impacts in time order and write the results back.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn run(
         &mut self,
         k: &mut Kimpact,
