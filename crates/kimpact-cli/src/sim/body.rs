@@ -1,0 +1,181 @@
+// The simulation, written once: included by the four modules of mod.rs,
+// each with its own `k` (the adapter crate) and the helpers of dim2.rs or
+// dim3.rs.
+
+/// Run the scene (see [`super::run`]).
+pub(super) fn run(
+    scene: &crate::scene::Scene,
+    mode: crate::Mode,
+    steps: u64,
+    frame_steps: &[u64],
+    progress: Option<&indicatif::ProgressBar>,
+) -> super::RunOutput {
+    use crate::scene::Effect;
+    use k::math::Real;
+    use k::rapier::prelude::*;
+
+    let kmode: k::Mode = mode.name().parse().expect("the adapters share the mode names");
+    let mut world = PhysicsWorld { gravity: vector(&scene.effective_gravity()), ..PhysicsWorld::default() };
+    world.integration_parameters.dt = scene.dt as Real;
+
+    let spin = scene.active(Effect::Spin);
+    let friction = scene.active(Effect::Friction);
+    let spec = scene.effective_law();
+    let law = k::Law::new(k::LawParams {
+        dissipation: spec.dissipation as Real,
+        wall_dissipation: spec.wall_dissipation.map(|w| w as Real),
+        fixed_partner: spec.fixed_partner,
+    })
+    .expect("the scene's law was validated");
+    let config = k::Config { fixed_partners: scene.active(Effect::FixedWalls), ..k::Config::default() };
+    let mut kimpact = k::Kimpact::with_config(law, kmode, config);
+
+    let ccd = scene.ccd_flags();
+    let mut handles = Vec::with_capacity(scene.bodies.len());
+    // Scene index and smallest half size of each collider (by collider index).
+    let mut of_collider: Vec<Option<(usize, f64)>> = Vec::new();
+    let mut law_bodies = 0;
+    for (i, b) in scene.bodies.iter().enumerate() {
+        let rb = if b.fixed { RigidBodyBuilder::fixed() } else { RigidBodyBuilder::dynamic() };
+        let mut rb = rb.translation(vector(&b.position)).linvel(vector(&b.velocity)).ccd_enabled(ccd[i]);
+        if !spin && !b.fixed {
+            rb = rb.lock_rotations();
+        }
+        let mut co = collider(&b.shape)
+            .restitution(b.restitution as Real)
+            .friction(if friction { b.friction as Real } else { 0.0 });
+        if let Some(m) = b.mass {
+            co = co.mass(m as Real);
+        }
+        let (h, c) = world.insert(rb, co);
+        // Only bodies that can meet the law are marked (never in native
+        // mode, where kimpact does nothing).
+        if b.law && !b.fixed && kmode != k::Mode::Native {
+            kimpact.mark(c);
+            law_bodies += 1;
+        }
+        let (index, _) = c.into_raw_parts();
+        let index = index as usize;
+        if of_collider.len() <= index {
+            of_collider.resize(index + 1, None);
+        }
+        of_collider[index] = Some((i, b.shape.min_size()));
+        handles.push(h);
+    }
+
+    let gravity = scene.effective_gravity();
+    let dim = scene.dim;
+    let masses: Vec<Option<f64>> = handles
+        .iter()
+        .zip(&scene.bodies)
+        .map(|(h, b)| (!b.fixed).then(|| world.bodies[*h].mass() as f64))
+        .collect();
+    let law_mask: Vec<bool> = scene.bodies.iter().map(|b| b.law && !b.fixed).collect();
+
+    let sample = |world: &PhysicsWorld, time: f64| -> super::Sample {
+        let mut kinetic = 0.0;
+        let mut potential = 0.0;
+        let mut momentum_all = vec![0.0; dim];
+        let mut momentum_law = vec![0.0; dim];
+        for (i, h) in handles.iter().enumerate() {
+            let Some(m) = masses[i] else { continue };
+            let rb = &world.bodies[*h];
+            let v = to_vec(rb.linvel());
+            let x = to_vec(rb.translation());
+            let v2: f64 = v.iter().map(|c| c * c).sum();
+            let translational = 0.5 * m * v2;
+            kinetic += translational;
+            if spin {
+                // rapier's total minus its own translational part.
+                let lin = rb.linvel();
+                let own = 0.5 * rb.mass() * lin.dot(lin);
+                kinetic += (rb.kinetic_energy() - own).max(0.0) as f64;
+            }
+            potential -= m * gravity.iter().zip(&x).map(|(g, x)| g * x).sum::<f64>();
+            for kk in 0..dim {
+                momentum_all[kk] += m * v[kk];
+                if law_mask[i] {
+                    momentum_law[kk] += m * v[kk];
+                }
+            }
+        }
+        super::Sample { time, kinetic, potential, momentum_all, momentum_law }
+    };
+    let state = |world: &PhysicsWorld| -> Vec<super::BodyState> {
+        handles
+            .iter()
+            .map(|h| {
+                let rb = &world.bodies[*h];
+                super::BodyState { position: to_vec(rb.translation()), velocity: to_vec(rb.linvel()), rotation: rotation(rb) }
+            })
+            .collect()
+    };
+
+    let mut samples = Vec::with_capacity(steps as usize + 1);
+    let mut frames = Vec::with_capacity(frame_steps.len());
+    samples.push(sample(&world, 0.0));
+    let mut next_frame = 0;
+    while next_frame < frame_steps.len() && frame_steps[next_frame] == 0 {
+        frames.push(super::Frame { time: 0.0, bodies: state(&world) });
+        next_frame += 1;
+    }
+    let mut wall = std::time::Duration::ZERO;
+    let mut max_penetration: f64 = 0.0;
+    let mut max_ratio: f64 = 0.0;
+    for step in 1..=steps {
+        let start = std::time::Instant::now();
+        kimpact.step_world(&mut world, &(), &());
+        wall += start.elapsed();
+        let time = step as f64 * scene.dt;
+        for pair in world.narrow_phase.contact_pairs() {
+            if !pair.has_any_active_contact() {
+                continue;
+            }
+            let size = |c: ColliderHandle| {
+                let (index, _) = c.into_raw_parts();
+                of_collider.get(index as usize).copied().flatten().map_or(f64::INFINITY, |x| x.1)
+            };
+            let smaller = size(pair.collider1).min(size(pair.collider2));
+            for manifold in pair.manifolds() {
+                for point in &manifold.points {
+                    let depth = -(point.dist as f64);
+                    if depth > max_penetration {
+                        max_penetration = depth;
+                    }
+                    if depth / smaller > max_ratio {
+                        max_ratio = depth / smaller;
+                    }
+                }
+            }
+        }
+        samples.push(sample(&world, time));
+        while next_frame < frame_steps.len() && frame_steps[next_frame] == step {
+            frames.push(super::Frame { time, bodies: state(&world) });
+            next_frame += 1;
+        }
+        if let Some(p) = progress {
+            p.inc(1);
+        }
+    }
+    let s = kimpact.stats();
+    super::RunOutput {
+        mode,
+        steps,
+        masses,
+        final_bodies: state(&world),
+        samples,
+        frames,
+        stats: super::RunStats {
+            impacts: s.impacts,
+            clamped: s.clamped,
+            dissipated: s.dissipated,
+            skipped_non_finite: s.skipped_non_finite,
+            event_cap_hits: s.event_cap_hits,
+        },
+        wall_seconds: wall.as_secs_f64(),
+        max_penetration,
+        max_penetration_ratio: max_ratio,
+        ccd_bodies: ccd.iter().filter(|c| **c).count(),
+        law_bodies,
+    }
+}

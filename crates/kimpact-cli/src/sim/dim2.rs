@@ -1,0 +1,25 @@
+// 2D helpers, included by `sim2d` and `sim2d_f64` (see mod.rs).
+
+/// Scene vector → rapier vector.
+fn vector(v: &[f64]) -> k::math::Vector {
+    k::math::Vector::new(v[0] as k::math::Real, v[1] as k::math::Real)
+}
+
+/// rapier vector → scene vector.
+fn to_vec(v: k::math::Vector) -> Vec<f64> {
+    vec![v.x as f64, v.y as f64]
+}
+
+/// The collider of a scene shape.
+fn collider(shape: &crate::scene::Shape) -> k::rapier::prelude::ColliderBuilder {
+    use k::math::Real;
+    match shape {
+        crate::scene::Shape::Ball { radius } => k::rapier::prelude::ColliderBuilder::ball(*radius as Real),
+        crate::scene::Shape::Box { half_extents: h } => k::rapier::prelude::ColliderBuilder::cuboid(h[0] as Real, h[1] as Real),
+    }
+}
+
+/// The body's orientation: `[angle]`.
+fn rotation(rb: &k::rapier::prelude::RigidBody) -> Vec<f64> {
+    vec![rb.rotation().angle() as f64]
+}

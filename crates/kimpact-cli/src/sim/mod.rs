@@ -1,0 +1,137 @@
+//! Scene → rapier world → run, written once (`body.rs`) and compiled for the
+//! four adapter crates, with small dimension-specific helpers (`dim2.rs`,
+//! `dim3.rs`). Everything leaving this module is `f64` and dimension-free.
+
+use indicatif::ProgressBar;
+
+use crate::Mode;
+use crate::scene::{Precision, Scene};
+
+/// One body's state.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BodyState {
+    /// Centre position.
+    pub position: Vec<f64>,
+    /// Linear velocity.
+    pub velocity: Vec<f64>,
+    /// Orientation: 2D `[angle]`, 3D quaternion `[x, y, z, w]`.
+    pub rotation: Vec<f64>,
+}
+
+/// Totals over the bodies at one time.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sample {
+    /// Time in seconds.
+    pub time: f64,
+    /// Kinetic energy of every body (translation, and rotation when `spin`
+    /// is active).
+    pub kinetic: f64,
+    /// Gravitational potential energy `−Σ m g·x` (zero without gravity).
+    pub potential: f64,
+    /// Momentum of every body.
+    pub momentum_all: Vec<f64>,
+    /// Momentum of the law bodies.
+    pub momentum_law: Vec<f64>,
+}
+
+/// Every body at one time, for pictures.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Frame {
+    /// Time in seconds.
+    pub time: f64,
+    /// The bodies, in scene order.
+    pub bodies: Vec<BodyState>,
+}
+
+/// kimpact's statistics, dimension-free.
+#[derive(Copy, Clone, Debug, Default, PartialEq)]
+pub struct RunStats {
+    /// Impacts resolved by the law.
+    pub impacts: u64,
+    /// Of which clamped.
+    pub clamped: u64,
+    /// Energy dissipated by the law.
+    pub dissipated: f64,
+    /// Pairs skipped for non-finite data.
+    pub skipped_non_finite: u64,
+    /// Exact-mode steps that hit the event cap.
+    pub event_cap_hits: u64,
+}
+
+/// The outcome of one run.
+#[derive(Clone, Debug)]
+pub struct RunOutput {
+    /// The mode run.
+    pub mode: Mode,
+    /// Steps taken.
+    pub steps: u64,
+    /// Masses as simulated (`None` for fixed bodies).
+    pub masses: Vec<Option<f64>>,
+    /// The bodies at the end, in scene order.
+    pub final_bodies: Vec<BodyState>,
+    /// Totals at every step (the first at time 0).
+    pub samples: Vec<Sample>,
+    /// Pictures at the requested steps.
+    pub frames: Vec<Frame>,
+    /// kimpact's totals (zero in native mode).
+    pub stats: RunStats,
+    /// Wall time spent in the physics steps.
+    pub wall_seconds: f64,
+    /// Deepest contact penetration seen over the run (0 if none).
+    pub max_penetration: f64,
+    /// The same, relative to the smaller body's smallest half size.
+    pub max_penetration_ratio: f64,
+    /// Bodies that got CCD.
+    pub ccd_bodies: usize,
+    /// Colliders marked for the law.
+    pub law_bodies: usize,
+}
+
+/// Run `scene` in `mode` for `steps` steps, recording frames at the given
+/// step indices (sorted), ticking `progress` once per step.
+pub fn run(
+    scene: &Scene,
+    mode: Mode,
+    steps: u64,
+    frame_steps: &[u64],
+    progress: Option<&ProgressBar>,
+) -> RunOutput {
+    match (scene.dim, scene.precision) {
+        (2, Precision::F32) => sim2d::run(scene, mode, steps, frame_steps, progress),
+        (2, Precision::F64) => sim2d_f64::run(scene, mode, steps, frame_steps, progress),
+        (_, Precision::F32) => sim3d::run(scene, mode, steps, frame_steps, progress),
+        (_, Precision::F64) => sim3d_f64::run(scene, mode, steps, frame_steps, progress),
+    }
+}
+
+/// rapier2d (f32).
+#[allow(clippy::unnecessary_cast, clippy::useless_conversion)]
+mod sim2d {
+    use kimpact2d as k;
+    include!("dim2.rs");
+    include!("body.rs");
+}
+
+/// rapier2d-f64.
+#[allow(clippy::unnecessary_cast, clippy::useless_conversion)]
+mod sim2d_f64 {
+    use kimpact2d_f64 as k;
+    include!("dim2.rs");
+    include!("body.rs");
+}
+
+/// rapier3d (f32).
+#[allow(clippy::unnecessary_cast, clippy::useless_conversion)]
+mod sim3d {
+    use kimpact3d as k;
+    include!("dim3.rs");
+    include!("body.rs");
+}
+
+/// rapier3d-f64.
+#[allow(clippy::unnecessary_cast, clippy::useless_conversion)]
+mod sim3d_f64 {
+    use kimpact3d_f64 as k;
+    include!("dim3.rs");
+    include!("body.rs");
+}

@@ -1,0 +1,646 @@
+//! The `kimpact` binary end to end: bundled scenes, the report's keys and
+//! meaning, determinism, `compare`'s outputs, bad scenes and bad flags.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use serde_json::Value;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_kimpact"))
+}
+
+fn scenes_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
+}
+
+fn scene(name: &str) -> PathBuf {
+    scenes_dir().join(name)
+}
+
+/// A fresh, empty temporary directory for one test.
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("kimpact-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir
+}
+
+fn run(args: &[&str]) -> Output {
+    bin().args(args).output().expect("the binary runs")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn report(args: &[&str]) -> Value {
+    let o = run(args);
+    assert!(
+        o.status.success(),
+        "kimpact {args:?} failed: {}",
+        stderr(&o)
+    );
+    serde_json::from_slice(&o.stdout).expect("the report is JSON")
+}
+
+fn f(v: &Value) -> f64 {
+    v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"))
+}
+
+fn vecf(v: &Value) -> Vec<f64> {
+    v.as_array().expect("an array").iter().map(f).collect()
+}
+
+fn bundled() -> Vec<PathBuf> {
+    let mut all: Vec<PathBuf> = std::fs::read_dir(scenes_dir())
+        .expect("scenes/")
+        .map(|e| e.expect("entry").path())
+        .filter(|p| {
+            matches!(
+                p.extension().and_then(|e| e.to_str()),
+                Some("json" | "ron" | "toml")
+            )
+        })
+        .collect();
+    all.sort();
+    all
+}
+
+#[test]
+fn the_bundled_scenes_are_all_there() {
+    let names: Vec<String> = bundled()
+        .iter()
+        .map(|p| p.file_stem().unwrap().to_string_lossy().into_owned())
+        .collect();
+    for want in [
+        "cradle2d",
+        "cradle3d",
+        "billiards2d",
+        "masses1000_2d",
+        "pachinko2d",
+        "ballpit2d",
+        "ballpit3d",
+        "gas2d",
+        "gas3d",
+        "cooling2d",
+    ] {
+        assert!(
+            names.iter().any(|n| n == want),
+            "scenes/{want}.* is missing (have {names:?})"
+        );
+    }
+}
+
+#[test]
+fn every_bundled_scene_runs_in_every_mode() {
+    for path in bundled() {
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(
+            text.contains("description"),
+            "{} has no description",
+            path.display()
+        );
+        let p = path.to_str().unwrap();
+        for mode in ["native", "restitution", "impulse", "exact"] {
+            let r = report(&["run", p, "--mode", mode, "--steps", "3"]);
+            assert_eq!(r["mode"], mode);
+            assert_eq!(r["steps"], 3);
+            let bodies = r["bodies"].as_array().unwrap();
+            assert_eq!(
+                bodies.len() as u64,
+                r["setup"]["body_count"].as_u64().unwrap()
+            );
+            assert_eq!(
+                r["checks"]["non_finite"], 0,
+                "{p} {mode}: non-finite bodies"
+            );
+            if mode == "native" {
+                assert_eq!(r["setup"]["marked_bodies"], 0);
+                assert_eq!(r["impacts"]["count"], 0);
+            }
+        }
+        let check = run(&["check", p]);
+        assert!(check.status.success(), "check {p}: {}", stderr(&check));
+    }
+}
+
+#[test]
+fn ball_pits_have_more_than_a_thousand_balls() {
+    for name in ["ballpit2d.ron", "ballpit3d.toml"] {
+        let r = report(&[
+            "run",
+            scene(name).to_str().unwrap(),
+            "--mode",
+            "native",
+            "--steps",
+            "1",
+        ]);
+        let balls = r["bodies"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|b| b["shape"] == "ball" && b["fixed"] == false)
+            .count();
+        assert!(balls >= 1000, "{name}: {balls} balls");
+        let masses: std::collections::BTreeSet<u64> = r["bodies"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter_map(|b| b["mass"].as_f64())
+            .map(|m| (m * 1e6).round() as u64)
+            .collect();
+        assert!(
+            masses.len() >= 3,
+            "{name}: mixed masses expected, got {masses:?}"
+        );
+    }
+}
+
+#[test]
+fn report_keys_and_their_meaning() {
+    let r = report(&[
+        "run",
+        scene("cradle2d.ron").to_str().unwrap(),
+        "--steps",
+        "60",
+    ]);
+    for key in [
+        "scene",
+        "dim",
+        "precision",
+        "mode",
+        "steps",
+        "dt",
+        "bodies",
+        "energy",
+        "momentum",
+        "impacts",
+        "timing",
+        "effects",
+    ] {
+        assert!(r.get(key).is_some(), "missing key {key}");
+    }
+    for key in [
+        "kinetic_initial",
+        "kinetic_final",
+        "potential_initial",
+        "potential_final",
+    ] {
+        assert!(r["energy"][key].is_f64(), "energy.{key}");
+    }
+    for key in ["count", "clamped", "dissipated"] {
+        assert!(r["impacts"].get(key).is_some(), "impacts.{key}");
+    }
+    for key in ["wall_seconds", "seconds_per_step"] {
+        assert!(r["timing"][key].is_f64(), "timing.{key}");
+    }
+    assert_eq!(r["dim"], 2);
+    assert_eq!(r["precision"], "f32");
+    assert_eq!(r["mode"], "exact");
+    assert!((f(&r["dt"]) - 1.0 / 60.0).abs() < 1e-15);
+    let spp = f(&r["timing"]["seconds_per_step"]);
+    assert!((spp * 60.0 - f(&r["timing"]["wall_seconds"])).abs() < 1e-9);
+
+    // Energy and momentum agree with the bodies.
+    let bodies = r["bodies"].as_array().unwrap();
+    let mut kinetic = 0.0;
+    let mut p_all = [0.0; 2];
+    let mut p_law = [0.0; 2];
+    for b in bodies {
+        let m = f(&b["mass"]);
+        let v = vecf(&b["velocity"]);
+        assert_eq!(vecf(&b["position"]).len(), 2);
+        kinetic += 0.5 * m * (v[0] * v[0] + v[1] * v[1]);
+        for k in 0..2 {
+            p_all[k] += m * v[k];
+            if b["law"] == true {
+                p_law[k] += m * v[k];
+            }
+        }
+    }
+    assert!(
+        (kinetic - f(&r["energy"]["kinetic_final"])).abs() < 1e-9,
+        "kinetic energy {kinetic} vs {}",
+        r["energy"]["kinetic_final"]
+    );
+    let fin = &r["momentum"]["final"];
+    for k in 0..2 {
+        assert!((p_all[k] - vecf(&fin["all"])[k]).abs() < 1e-9);
+        assert!((p_law[k] - vecf(&fin["law"])[k]).abs() < 1e-9);
+    }
+    // The initial values: ball 0 at 1 m/s, mass 1.
+    assert!((f(&r["energy"]["kinetic_initial"]) - 0.5).abs() < 1e-6);
+    assert_eq!(vecf(&r["momentum"]["initial"]["all"]), vec![1.0, 0.0]);
+    assert_eq!(f(&r["energy"]["potential_initial"]), 0.0);
+    // The elastic law conserves energy and momentum in the cradle, and the
+    // last ball leaves alone.
+    assert!((f(&r["energy"]["kinetic_final"]) - 0.5).abs() < 1e-5);
+    assert!((vecf(&fin["all"])[0] - 1.0).abs() < 1e-5);
+    assert!(r["impacts"]["count"].as_u64().unwrap() >= 4);
+    assert_eq!(r["impacts"]["clamped"], 0);
+    let last = vecf(&bodies[4]["velocity"]);
+    assert!((last[0] - 1.0).abs() < 1e-4, "last ball {last:?}");
+    for b in &bodies[..4] {
+        assert!(vecf(&b["velocity"])[0].abs() < 1e-4);
+    }
+}
+
+#[test]
+fn potential_energy_follows_the_bodies() {
+    let r = report(&[
+        "run",
+        scene("pachinko2d.toml").to_str().unwrap(),
+        "--steps",
+        "20",
+        "--mode",
+        "native",
+    ]);
+    let mut potential = 0.0;
+    for b in r["bodies"].as_array().unwrap() {
+        if let Some(m) = b["mass"].as_f64() {
+            potential += m * 9.81 * vecf(&b["position"])[1];
+        }
+    }
+    let reported = f(&r["energy"]["potential_final"]);
+    assert!(
+        (potential - reported).abs() < 1e-5 * potential.abs().max(1.0),
+        "{potential} vs {reported}"
+    );
+    assert!(
+        reported < f(&r["energy"]["potential_initial"]),
+        "the marbles fall"
+    );
+    let effects: Vec<&str> = r["effects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e.as_str().unwrap())
+        .collect();
+    assert_eq!(effects, ["gravity", "dissipation", "fixed_walls"]);
+}
+
+fn without_timing(mut v: Value) -> Value {
+    v.as_object_mut().unwrap().remove("timing");
+    v
+}
+
+#[test]
+fn reports_are_deterministic_apart_from_timing() {
+    for (name, mode) in [
+        ("billiards2d.ron", "exact"),
+        ("gas3d.json", "impulse"),
+        ("pachinko2d.toml", "restitution"),
+        ("cradle2d.ron", "native"),
+    ] {
+        let p = scene(name);
+        let a = report(&["run", p.to_str().unwrap(), "--mode", mode, "--steps", "40"]);
+        let b = report(&["run", p.to_str().unwrap(), "--mode", mode, "--steps", "40"]);
+        assert_eq!(without_timing(a), without_timing(b), "{name} {mode}");
+    }
+}
+
+#[test]
+fn run_writes_the_report_atomically() {
+    let dir = temp_dir("run-out");
+    let out = dir.join("report.json");
+    let o = run(&[
+        "run",
+        scene("cradle3d.json").to_str().unwrap(),
+        "--steps",
+        "5",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(o.stdout.is_empty(), "nothing on stdout with --out");
+    let r: Value = serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap();
+    assert_eq!(r["dim"], 3);
+    assert_eq!(vecf(&r["bodies"][0]["position"]).len(), 3);
+    let names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(names, ["report.json"], "no temporary file left");
+}
+
+#[test]
+fn compare_writes_reports_summary_plots_and_pictures() {
+    let dir = temp_dir("compare").join("cradle");
+    let o = run(&[
+        "compare",
+        scene("cradle2d.ron").to_str().unwrap(),
+        "--steps",
+        "30",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    for mode in ["native", "restitution", "impulse", "exact"] {
+        let r: Value = serde_json::from_slice(
+            &std::fs::read(dir.join(format!("report-{mode}.json"))).unwrap(),
+        )
+        .unwrap();
+        assert_eq!(r["mode"], mode);
+        assert_eq!(r["steps"], 30);
+        assert!(dir.join("frames").join(format!("{mode}-0.png")).is_file());
+    }
+    for png in ["energy.png", "momentum.png", "strip.png"] {
+        let bytes = std::fs::read(dir.join(png)).unwrap();
+        assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "{png}");
+    }
+    for svg in ["energy.svg", "momentum.svg"] {
+        let text = std::fs::read_to_string(dir.join(svg)).unwrap();
+        assert!(
+            text.starts_with("<svg") && text.contains("exact") && text.contains("native"),
+            "{svg}"
+        );
+    }
+    let summary = std::fs::read_to_string(dir.join("summary.md")).unwrap();
+    for mode in [
+        "| native |",
+        "| restitution |",
+        "| impulse |",
+        "| exact |",
+        "s/step",
+        "kinetic",
+    ] {
+        assert!(summary.contains(mode), "summary lacks {mode}");
+    }
+}
+
+#[test]
+fn compare_draws_3d_scenes() {
+    let dir = temp_dir("compare3d");
+    let o = run(&[
+        "compare",
+        scene("gas3d.json").to_str().unwrap(),
+        "--steps",
+        "4",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(dir.join("strip.png").is_file());
+    assert!(dir.join("frames/exact-0.png").is_file());
+}
+
+#[test]
+fn effects_decide_what_is_built() {
+    let dir = temp_dir("effects");
+    let path = dir.join("s.json");
+    // Gravity and friction given but not called for; a box that does not
+    // follow the law.
+    std::fs::write(
+        &path,
+        r#"{"dim": 2, "steps": 10, "gravity": [0, -9.81], "effects": [],
+            "bodies": [
+              {"shape": "ball", "radius": 0.1, "mass": 1, "position": [0, 0], "velocity": [1, 0], "friction": 0.5},
+              {"shape": "box", "half_extents": [0.1, 0.1], "mass": 2, "position": [1, 0]}
+            ]}"#,
+    )
+    .unwrap();
+    let o = run(&["run", path.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("gravity: ignored"), "{}", stderr(&o));
+    let r: Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(r["effects"].as_array().unwrap().len(), 0);
+    assert_eq!(vecf(&r["setup"]["gravity"]), vec![0.0, 0.0]);
+    assert_eq!(
+        r["setup"]["marked_bodies"], 1,
+        "only the ball follows the law"
+    );
+    assert_eq!(r["setup"]["ccd_bodies"], 0, "slow bodies get no CCD");
+    assert_eq!(r["bodies"][1]["law"], false);
+    assert_eq!(
+        vecf(&r["bodies"][0]["velocity"])[1],
+        0.0,
+        "no gravity acted"
+    );
+    // The billiards break gets CCD on its balls.
+    let r = report(&[
+        "run",
+        scene("billiards2d.ron").to_str().unwrap(),
+        "--steps",
+        "1",
+    ]);
+    assert_eq!(r["setup"]["ccd_bodies"], 16);
+}
+
+const BALL: &str = r#"{"shape": "ball", "radius": 0.1, "mass": 1, "position": [0, 0]}"#;
+
+fn bad_scenes() -> Vec<(String, String, Vec<&'static str>)> {
+    let json = |body: &str| format!(r#"{{"dim": 2, "steps": 10, "bodies": [{body}]}}"#);
+    let mut cases: Vec<(String, String, Vec<&'static str>)> = vec![
+        ("missing_dim.json".into(), format!(r#"{{"steps": 10, "bodies": [{BALL}]}}"#), vec!["dim", "missing"]),
+        ("dim4.json".into(), format!(r#"{{"dim": 4, "steps": 10, "bodies": [{BALL}]}}"#), vec!["dim", "must be 2 or 3, got 4"]),
+        ("missing_steps.json".into(), format!(r#"{{"dim": 2, "bodies": [{BALL}]}}"#), vec!["steps", "missing"]),
+        ("wrong_type_dim.json".into(), format!("{{\n  \"dim\": \"two\", \"steps\": 10, \"bodies\": [{BALL}]}}"), vec!["dim", ":2:"]),
+        ("negative_steps.json".into(), format!(r#"{{"dim": 2, "steps": -5, "bodies": [{BALL}]}}"#), vec!["steps"]),
+        ("negative_mass.json".into(), json(r#"{"shape": "ball", "radius": 0.1, "mass": -1, "position": [0, 0]}"#), vec!["bodies[0].mass", "must be > 0"]),
+        ("wrong_type_mass.json".into(), json(r#"{"shape": "ball", "radius": 0.1, "mass": "heavy", "position": [0, 0]}"#), vec!["bodies[0].mass", "invalid type"]),
+        ("zero_radius.json".into(), json(r#"{"shape": "ball", "radius": 0, "mass": 1, "position": [0, 0]}"#), vec!["bodies[0].radius", "must be > 0, got 0"]),
+        ("nan_radius.toml".into(), "dim = 2\nsteps = 10\n[[bodies]]\nshape = \"ball\"\nradius = nan\nmass = 1.0\nposition = [0.0, 0.0]\n".into(), vec!["bodies[0].radius", "finite"]),
+        ("nan_velocity.ron".into(), "(dim: 2, steps: 10, bodies: [(shape: \"ball\", radius: 0.1, mass: 1.0, position: [0.0, 0.0], velocity: [NaN, 0.0])])".into(), vec!["bodies[0].velocity[0]", "finite"]),
+        ("inf_gravity.toml".into(), "dim = 2\nsteps = 10\ngravity = [0.0, -inf]\n[[bodies]]\nshape = \"ball\"\nradius = 0.1\nmass = 1.0\nposition = [0.0, 0.0]\n".into(), vec!["gravity[1]", "finite"]),
+        ("negative_dissipation.json".into(), format!(r#"{{"dim": 2, "steps": 10, "law": {{"dissipation": -0.1}}, "bodies": [{BALL}]}}"#), vec!["law.dissipation", ">= 0"]),
+        ("negative_wall_dissipation.json".into(), format!(r#"{{"dim": 2, "steps": 10, "law": {{"wall_dissipation": -1}}, "bodies": [{BALL}]}}"#), vec!["law.wall_dissipation"]),
+        ("bad_fixed_partner.json".into(), format!(r#"{{"dim": 2, "steps": 10, "law": {{"fixed_partner": "infinite"}}, "bodies": [{BALL}]}}"#), vec!["law.fixed_partner"]),
+        ("unknown_mode.json".into(), format!(r#"{{"dim": 2, "steps": 10, "mode": "fast", "bodies": [{BALL}]}}"#), vec!["mode", "unknown mode \"fast\""]),
+        ("bad_precision.json".into(), format!(r#"{{"dim": 2, "steps": 10, "precision": "f16", "bodies": [{BALL}]}}"#), vec!["precision"]),
+        ("zero_dt.json".into(), format!(r#"{{"dim": 2, "steps": 10, "dt": 0, "bodies": [{BALL}]}}"#), vec!["dt", "must be > 0"]),
+        ("position_3_in_2d.json".into(), json(r#"{"shape": "ball", "radius": 0.1, "mass": 1, "position": [0, 0, 0]}"#), vec!["bodies[0].position", "must have 2 components"]),
+        ("gravity_3_in_2d.json".into(), format!(r#"{{"dim": 2, "steps": 10, "gravity": [0, -9.81, 0], "bodies": [{BALL}]}}"#), vec!["gravity", "must have 2 components"]),
+        ("half_extents_2_in_3d.json".into(), r#"{"dim": 3, "steps": 10, "bodies": [{"shape": "box", "half_extents": [1, 1], "mass": 1, "position": [0, 0, 0]}]}"#.into(), vec!["bodies[0].half_extents", "3 components"]),
+        ("unknown_top_key.json".into(), format!(r#"{{"dim": 2, "steps": 10, "gravty": [0, 1], "bodies": [{BALL}]}}"#), vec!["gravty", "unknown field"]),
+        ("unknown_body_key.ron".into(), "(dim: 2, steps: 10, bodies: [(shape: \"ball\", radus: 0.1, mass: 1.0, position: [0.0, 0.0])])".into(), vec!["bodies[0]", "radus"]),
+        ("unknown_shape.json".into(), json(r#"{"shape": "cube", "radius": 0.1, "mass": 1, "position": [0, 0]}"#), vec!["bodies[0].shape", "cube"]),
+        ("box_without_half_extents.json".into(), json(r#"{"shape": "box", "mass": 1, "position": [0, 0]}"#), vec!["bodies[0].half_extents", "missing"]),
+        ("ball_without_mass.json".into(), json(r#"{"shape": "ball", "radius": 0.1, "position": [0, 0]}"#), vec!["bodies[0].mass", "missing"]),
+        ("missing_position.json".into(), json(r#"{"shape": "ball", "radius": 0.1, "mass": 1}"#), vec!["bodies[0].position", "missing"]),
+        ("overlap.json".into(), json(&format!(r#"{BALL}, {{"shape": "ball", "radius": 0.1, "mass": 1, "position": [0.15, 0]}}"#)), vec!["bodies[1].position", "overlaps bodies[0]"]),
+        ("unknown_effect.json".into(), format!(r#"{{"dim": 2, "steps": 10, "effects": ["wind"], "bodies": [{BALL}]}}"#), vec!["effects[0]", "wind"]),
+        (
+            "fixed_without_fixed_walls.json".into(),
+            json(&format!(r#"{BALL}, {{"shape": "box", "half_extents": [1, 0.1], "position": [0, -1], "fixed": true}}"#)).replace(r#""steps": 10,"#, r#""steps": 10, "effects": [],"#),
+            vec!["effects", "fixed_walls"],
+        ),
+        ("law_on_fixed.json".into(), json(&format!(r#"{BALL}, {{"shape": "ball", "radius": 0.1, "position": [1, 0], "fixed": true, "law": true}}"#)), vec!["bodies[1].law"]),
+        ("mass_on_fixed.json".into(), json(&format!(r#"{BALL}, {{"shape": "ball", "radius": 0.1, "mass": 2, "position": [1, 0], "fixed": true}}"#)), vec!["bodies[1].mass"]),
+        ("no_bodies.json".into(), r#"{"dim": 2, "steps": 10, "bodies": []}"#.into(), vec!["bodies"]),
+        ("generator_count.json".into(), r#"{"dim": 2, "steps": 10, "generators": [{"origin": [0, 0], "count": [2], "spacing": [1, 1], "body": {"shape": "ball", "radius": 0.1, "mass": 1}}]}"#.into(), vec!["generators[0].count"]),
+        ("generator_position.json".into(), r#"{"dim": 2, "steps": 10, "generators": [{"origin": [0, 0], "count": [2, 2], "spacing": [1, 1], "body": {"shape": "ball", "radius": 0.1, "mass": 1, "position": [0, 0]}}]}"#.into(), vec!["generators[0].body.position"]),
+        ("syntax.json".into(), "{\"dim\": 2,\n \"steps\": 10,,\n}".into(), vec![":2:"]),
+        ("syntax.ron".into(), "(dim: 2, steps: 10, bodies: [\n(shape: \"ball\" radius: 0.1)])".into(), vec![":2:"]),
+        ("syntax.toml".into(), "dim = 2\nsteps = = 10\n".into(), vec![":2:"]),
+        ("scene.yaml".into(), "dim: 2".into(), vec!["scene format"]),
+        ("bad_view_axes.json".into(), format!(r#"{{"dim": 2, "steps": 10, "view": {{"axes": "xz"}}, "bodies": [{BALL}]}}"#), vec!["view.axes"]),
+    ];
+    cases.sort_by(|a, b| a.0.cmp(&b.0));
+    cases
+}
+
+#[test]
+fn bad_scenes_exit_2_naming_the_file_and_field_and_write_nothing() {
+    let dir = temp_dir("bad");
+    let cases = bad_scenes();
+    assert!(cases.len() >= 20);
+    for (file, text, expect) in cases {
+        let path = dir.join(&file);
+        std::fs::write(&path, &text).unwrap();
+        let out = dir.join(format!("{file}.report.json"));
+        let o = run(&[
+            "run",
+            path.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{file}: exit code, stderr: {err}");
+        assert!(
+            err.contains(&file),
+            "{file}: the message must name the file: {err}"
+        );
+        for e in expect {
+            assert!(
+                err.contains(e),
+                "{file}: the message must contain {e:?}: {err}"
+            );
+        }
+        assert!(!out.exists(), "{file}: no report may be written");
+        // compare writes nothing either.
+        let cdir = dir.join(format!("{file}.compare"));
+        let o = run(&[
+            "compare",
+            path.to_str().unwrap(),
+            "--out",
+            cdir.to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{file}: compare exit code");
+        assert!(
+            !cdir.exists(),
+            "{file}: compare must not create its directory"
+        );
+    }
+    let missing = dir.join("missing.json");
+    let o = run(&["run", missing.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("missing.json") && stderr(&o).contains("cannot read"));
+}
+
+#[test]
+fn an_existing_output_survives_a_bad_scene() {
+    let dir = temp_dir("keep");
+    let out = dir.join("report.json");
+    std::fs::write(&out, "old report").unwrap();
+    let bad = dir.join("bad.json");
+    std::fs::write(&bad, r#"{"dim": 5}"#).unwrap();
+    let o = run(&["run", bad.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), "old report");
+    let names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(names.len(), 2, "{names:?}");
+}
+
+#[test]
+fn bad_flags_exit_2() {
+    let cradle = scene("cradle2d.ron");
+    let c = cradle.to_str().unwrap();
+    for args in [
+        vec!["run", c, "--mode", "fast"],
+        vec!["run", c, "--steps", "0"],
+        vec!["run", c, "--steps", "many"],
+        vec!["run", c, "--bogus"],
+        vec!["run"],
+        vec!["frobnicate"],
+        vec![],
+        vec!["run", c, "--out", "/nonexistent-kimpact-dir/report.json"],
+    ] {
+        let o = run(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+    }
+    assert_eq!(run(&["--help"]).status.code(), Some(0));
+    assert_eq!(run(&["run", "--help"]).status.code(), Some(0));
+}
+
+#[test]
+fn no_progress_bar_without_a_terminal() {
+    let o = run(&[
+        "run",
+        scene("cradle2d.ron").to_str().unwrap(),
+        "--steps",
+        "10",
+    ]);
+    assert!(o.status.success());
+    assert!(stderr(&o).is_empty(), "stderr: {}", stderr(&o));
+}
+
+/// A regression test for an adapter problem seen while building the CLI
+/// (since fixed in the adapter): in `exact` mode a ball meeting a fixed
+/// wall at a few m/s did not reflect.
+#[test]
+fn exact_mode_reflects_a_fast_ball_off_a_wall() {
+    let dir = temp_dir("wall");
+    let path = dir.join("wall.ron");
+    std::fs::write(
+        &path,
+        r#"(dim: 2, steps: 30, precision: "f64", effects: ["fixed_walls"], bodies: [
+            (shape: "ball", radius: 0.028575, mass: 0.17, position: [1.0, 0.0], velocity: [6.0, 0.0], restitution: 1.0, ccd: false),
+            (shape: "box", half_extents: [0.05, 0.7], position: [1.32, 0.0], fixed: true, restitution: 1.0),
+        ])"#,
+    )
+    .unwrap();
+    let r = report(&["run", path.to_str().unwrap(), "--mode", "exact"]);
+    let v = vecf(&r["bodies"][0]["velocity"]);
+    assert!((v[0] + 6.0).abs() < 1e-6, "velocity after the wall: {v:?}");
+}
+
+#[test]
+fn the_documented_example_is_a_valid_scene() {
+    let doc =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs/scenes.md"))
+            .unwrap();
+    let start = doc.find("```ron\n").expect("a RON example") + "```ron\n".len();
+    let end = start + doc[start..].find("```").unwrap();
+    let dir = temp_dir("doc");
+    let path = dir.join("example.ron");
+    std::fs::write(&path, &doc[start..end]).unwrap();
+    let r = report(&["run", path.to_str().unwrap(), "--steps", "5"]);
+    let effects: Vec<&str> = r["effects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e.as_str().unwrap())
+        .collect();
+    assert_eq!(
+        effects,
+        ["gravity", "dissipation", "friction", "spin", "fixed_walls"]
+    );
+    assert_eq!(r["bodies"].as_array().unwrap().len(), 32);
+}
+
+#[test]
+fn exact_mode_counts_the_99_impacts_of_the_1_to_1000_scene() {
+    // floor(π √1000) = 99 impacts for an elastic heavy ball pushing a light
+    // one against a wall; the light ball reaches 16 m/s and needs CCD.
+    let r = report(&[
+        "run",
+        scene("masses1000_2d.json").to_str().unwrap(),
+        "--mode",
+        "exact",
+    ]);
+    assert_eq!(
+        r["setup"]["ccd_bodies"], 1,
+        "only the light ball can get fast"
+    );
+    assert_eq!(r["impacts"]["count"], 99);
+    assert!((f(&r["energy"]["kinetic_final"]) - 0.125).abs() < 1e-9);
+    let light = vecf(&r["bodies"][1]["position"]);
+    assert!(
+        light[0] > 0.0,
+        "the light ball stays on its side of the wall: {light:?}"
+    );
+}
