@@ -241,7 +241,12 @@ impl PhysicsHooks for HookState<'_> {
                 match self.law.restitution(b1.mass, b2.mass, approach, tangential) {
                     Ok(Some(r)) => {
                         *rigid.restitution = r.coefficient;
-                        self.record(context, n, point, dist, b1, b2);
+                        // Reported only when the bodies meet within the step
+                        // (a speculative contact further away gets no impulse
+                        // from rapier, and stays fresh for the next step).
+                        if dist <= (approach + self.margin) * self.dt {
+                            self.record(context, n, point, dist, b1, b2);
+                        }
                     }
                     // Invalid masses (a NaN mass reached rapier): no bounce,
                     // and the post-step pass reports it.
@@ -249,12 +254,17 @@ impl PhysicsHooks for HookState<'_> {
                 }
             }
             Mode::Impulse | Mode::Exact => {
-                // rapier leaves the pair alone this step; kimpact resolves
-                // it after the step if the bodies meet within it.
-                rigid.solver_contacts.clear();
                 let reach = (approach + self.margin) * self.dt;
                 if self.mode == Mode::Exact || dist <= reach {
+                    // rapier leaves the pair alone this step; kimpact
+                    // resolves it after the step.
+                    rigid.solver_contacts.clear();
                     self.record(context, n, point, dist, b1, b2);
+                } else {
+                    // Not meeting within this step: rapier's speculative
+                    // contact keeps them apart without an impulse, and the
+                    // contact stays fresh for the step where they meet.
+                    *rigid.restitution = 0.0;
                 }
             }
         }
