@@ -1,17 +1,30 @@
-//! An elastic hard-disk gas in a closed box, rapier2d, every mode.
+//! An elastic hard-disk gas in a closed box, rapier2d, every mode, written
+//! with `PhysicsPipeline::step` and its sets (the other drop-in form; see
+//! `cradle3d.rs` for `PhysicsWorld`).
 //!
 //! `cargo run --example gas2d`
 //!
 //! 200 disks with restitution 1 bounce in a box for 3,000 steps. Plain
 //! rapier loses kinetic energy; kimpact's `exact` mode keeps it to rounding.
+//! The lines marked `kimpact:` are the whole change.
 
 use kimpact2d::rapier::prelude::*;
 use kimpact2d::{Kimpact, Law, Mode};
 
 fn run(mode: Mode) -> (f32, f32, u64) {
-    let mut world = PhysicsWorld::new();
-    world.gravity = Vector::ZERO;
-    let mut kimpact = Kimpact::new(Law::elastic(), mode);
+    let mut bodies = RigidBodySet::new();
+    let mut colliders = ColliderSet::new();
+    let mut pipeline = PhysicsPipeline::new();
+    let params = IntegrationParameters::default();
+    let mut islands = IslandManager::new();
+    let mut broad_phase = DefaultBroadPhase::default();
+    let mut narrow_phase = NarrowPhase::new();
+    let mut impulse_joints = ImpulseJointSet::new();
+    let mut multibody_joints = MultibodyJointSet::new();
+    let mut soft_bodies = SoftBodySet::new();
+    let mut ccd = CCDSolver::new();
+    let mut kimpact = Kimpact::new(Law::elastic(), mode); // kimpact: the resolver
+
     let half = 15.0;
     for (c, h) in [
         (Vector::new(half + 1.0, 0.0), Vector::new(1.0, half + 2.0)),
@@ -19,11 +32,11 @@ fn run(mode: Mode) -> (f32, f32, u64) {
         (Vector::new(0.0, half + 1.0), Vector::new(half + 2.0, 1.0)),
         (Vector::new(0.0, -half - 1.0), Vector::new(half + 2.0, 1.0)),
     ] {
-        let wall = world.insert_body(RigidBodyBuilder::fixed().translation(c));
-        world.insert_collider(
-            kimpact2d::math::cuboid(h).restitution(1.0).friction(0.0),
-            Some(wall),
-        );
+        let wall = bodies.insert(RigidBodyBuilder::fixed().translation(c));
+        let collider = ColliderBuilder::cuboid(h.x, h.y)
+            .restitution(1.0)
+            .friction(0.0);
+        colliders.insert_with_parent(collider, wall, &mut bodies);
     }
     let mut seed = 7u32;
     let mut rnd = || {
@@ -32,27 +45,43 @@ fn run(mode: Mode) -> (f32, f32, u64) {
     };
     for i in 0..200 {
         let p = Vector::new(-14.0 + 2.0 * (i % 15) as f32, -14.0 + 2.0 * (i / 15) as f32);
-        let body = RigidBodyBuilder::dynamic()
-            .translation(p)
-            .linvel(Vector::new(3.0 * rnd(), 3.0 * rnd()))
-            .can_sleep(false);
-        let (_, c) = world.insert(
-            body,
-            ColliderBuilder::ball(0.5).restitution(1.0).friction(0.0),
+        let v = Vector::new(3.0 * rnd(), 3.0 * rnd());
+        let body = bodies.insert(
+            RigidBodyBuilder::dynamic()
+                .translation(p)
+                .linvel(v)
+                .can_sleep(false),
         );
-        kimpact.mark(c);
+        let collider = ColliderBuilder::ball(0.5).restitution(1.0).friction(0.0);
+        let handle = colliders.insert_with_parent(collider, body, &mut bodies);
+        kimpact.mark(handle); // kimpact: this disk follows the law
     }
-    let energy = |w: &PhysicsWorld| {
-        w.bodies
-            .iter()
+    let energy = |b: &RigidBodySet| {
+        b.iter()
             .map(|(_, b)| 0.5 * b.mass() * b.linvel().length_squared())
             .sum::<f32>()
     };
-    let e0 = energy(&world);
+    let e0 = energy(&bodies);
     for _ in 0..3000 {
-        kimpact.step_world(&mut world, &(), &());
+        // kimpact: was `pipeline.step(Vector::ZERO, &params, ..., &(), &())`
+        kimpact.step(
+            &mut pipeline,
+            Vector::ZERO,
+            &params,
+            &mut islands,
+            &mut broad_phase,
+            &mut narrow_phase,
+            &mut bodies,
+            &mut colliders,
+            &mut impulse_joints,
+            &mut multibody_joints,
+            &mut soft_bodies,
+            &mut ccd,
+            &(),
+            &(),
+        );
     }
-    (e0, energy(&world), kimpact.stats().impacts)
+    (e0, energy(&bodies), kimpact.stats().impacts)
 }
 
 fn main() {
