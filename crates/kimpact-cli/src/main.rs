@@ -70,7 +70,7 @@ enum Command {
         /// Override the scene's number of steps.
         #[arg(long, value_parser = clap::value_parser!(u64).range(1..=scene::MAX_STEPS))]
         steps: Option<u64>,
-        /// Output directory (default: out/<scene name>).
+        /// Output directory (default: `out/<scene name>`).
         #[arg(long)]
         out: Option<PathBuf>,
     },
