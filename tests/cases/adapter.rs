@@ -7,7 +7,11 @@ use k::rapier::prelude::*;
 use k::{Law, LawParams, Mode};
 
 fn tol() -> f64 {
-    if std::mem::size_of::<Real>() == 8 { 1e-9 } else { 1e-5 }
+    if std::mem::size_of::<Real>() == 8 {
+        1e-9
+    } else {
+        1e-5
+    }
 }
 
 /// Error relative to the speeds involved (the incoming ball moves at 1).
@@ -17,7 +21,12 @@ fn rel_err(a: Vector, b: Vector) -> f64 {
 
 /// Two balls meeting mid-step, head-on or oblique: the final velocities
 /// against the core law's outcome at the contact geometry of the impact.
-fn two_balls(mode: Mode, m2: Real, dissipation: Real, offset: Real) -> (f64, Vector, Vector, Vector, Vector) {
+fn two_balls(
+    mode: Mode,
+    m2: Real,
+    dissipation: Real,
+    offset: Real,
+) -> (f64, Vector, Vector, Vector, Vector) {
     let mut w = TestWorld::new(mode, dissipation, Vector::ZERO);
     let r = 0.5;
     let dt = w.world.integration_parameters.dt;
@@ -38,7 +47,11 @@ fn two_balls(mode: Mode, m2: Real, dissipation: Real, offset: Real) -> (f64, Vec
     n[0] = gap_x;
     n[1] = lateral;
     let n = n / n.length();
-    let law = Law::new(LawParams { dissipation, ..Default::default() }).unwrap();
+    let law = Law::new(LawParams {
+        dissipation,
+        ..Default::default()
+    })
+    .unwrap();
     let ba = kimpact::Body::new(1.0, to_law(Vector::X)).unwrap();
     let bb = kimpact::Body::new(m2, to_law(Vector::ZERO)).unwrap();
     let impact = law.resolve(&ba, &bb, &to_law(n)).unwrap().unwrap();
@@ -54,7 +67,10 @@ fn head_on_and_oblique_match_the_core_law() {
         for m2 in [1.0, 10.0, 1000.0] {
             for d in [0.0, 0.01, 0.05] {
                 let (err, ..) = two_balls(mode, m2, d, 0.0);
-                assert!(err < tol(), "{mode} head-on m2={m2} d={d}: relative error {err:e}");
+                assert!(
+                    err < tol(),
+                    "{mode} head-on m2={m2} d={d}: relative error {err:e}"
+                );
                 let (err, va, ea, vb, eb) = two_balls(mode, m2, d, 0.6);
                 // The oblique case: exact uses the normal at the time of
                 // impact; the others the normal seen at detection.
@@ -62,7 +78,10 @@ fn head_on_and_oblique_match_the_core_law() {
                 if d == 0.0 && m2 == 10.0 {
                     eprintln!("{mode} oblique m2=10: relative error {err:.3e}");
                 }
-                assert!(err < bound, "{mode} oblique m2={m2} d={d}: relative error {err:e}: {va:?} vs {ea:?}, {vb:?} vs {eb:?}");
+                assert!(
+                    err < bound,
+                    "{mode} oblique m2={m2} d={d}: relative error {err:e}: {va:?} vs {ea:?}, {vb:?} vs {eb:?}"
+                );
             }
         }
     }
@@ -111,7 +130,11 @@ fn exact_newtons_cradle_passes_the_velocity_down_the_row() {
 fn cradle_in_every_mode_never_gains_energy() {
     for mode in Mode::ALL {
         let (v, e0, e1) = cradle(mode, 0.5, 0.0);
-        eprintln!("cradle {mode}: kept {:.4} of the energy; last ball {:?}", e1 / e0, v[5]);
+        eprintln!(
+            "cradle {mode}: kept {:.4} of the energy; last ball {:?}",
+            e1 / e0,
+            v[5]
+        );
         assert!(e1 <= e0 * (1.0 + tol()), "{mode}: energy rose {e0} -> {e1}");
     }
 }
@@ -120,15 +143,23 @@ fn cradle_in_every_mode_never_gains_energy() {
 fn sleeping_ball_wakes_when_hit_and_unmarking_restores_rapier() {
     let mut w = TestWorld::new(Mode::Exact, 0.0, Vector::ZERO);
     let (a, _) = w.ball(Vector::X * -2.0, Vector::X * 3.0, 0.5, 1.0);
-    let body = RigidBodyBuilder::dynamic().translation(Vector::ZERO).sleeping(true);
-    let (b, cb) = w.world.insert(body, ColliderBuilder::ball(0.5).mass(1.0).friction(0.0));
+    let body = RigidBodyBuilder::dynamic()
+        .translation(Vector::ZERO)
+        .sleeping(true);
+    let (b, cb) = w
+        .world
+        .insert(body, ColliderBuilder::ball(0.5).mass(1.0).friction(0.0));
     w.kimpact.mark(cb);
     assert!(w.world.bodies[b].is_sleeping());
     for _ in 0..60 {
         w.step();
     }
     assert!(!w.world.bodies[b].is_sleeping());
-    assert!(f64::from((w.vel(b) - Vector::X * 3.0).length()) < tol(), "{:?}", w.vel(b));
+    assert!(
+        f64::from((w.vel(b) - Vector::X * 3.0).length()) < tol(),
+        "{:?}",
+        w.vel(b)
+    );
     assert!(f64::from(w.vel(a).length()) < tol());
     assert!(w.kimpact.stats().impacts >= 1);
     assert!(w.kimpact.is_marked(cb));
@@ -144,8 +175,18 @@ fn fast_balls_with_ccd_do_not_tunnel_through_walls() {
         let mut w = TestWorld::new(mode, 0.0, Vector::ZERO);
         let r = 0.1;
         // 60 m/s at dt = 1/60: five diameters per step.
-        let body = RigidBodyBuilder::dynamic().translation(Vector::X * 0.3).linvel(Vector::X * 60.0).ccd_enabled(true).can_sleep(false);
-        let (fast, cf) = w.world.insert(body, ColliderBuilder::ball(r).mass(1.0).friction(0.0).restitution(1.0));
+        let body = RigidBodyBuilder::dynamic()
+            .translation(Vector::X * 0.3)
+            .linvel(Vector::X * 60.0)
+            .ccd_enabled(true)
+            .can_sleep(false);
+        let (fast, cf) = w.world.insert(
+            body,
+            ColliderBuilder::ball(r)
+                .mass(1.0)
+                .friction(0.0)
+                .restitution(1.0),
+        );
         w.kimpact.mark(cf);
         let mut he = Vector::splat(5.0);
         he[0] = 0.05;
@@ -153,12 +194,18 @@ fn fast_balls_with_ccd_do_not_tunnel_through_walls() {
         for step in 0..40 {
             w.step();
             let x = w.pos(fast)[0];
-            assert!(x < 12.0, "{mode} step {step}: the ball passed through the wall (x = {x})");
+            assert!(
+                x < 12.0,
+                "{mode} step {step}: the ball passed through the wall (x = {x})"
+            );
         }
         let v = w.vel(fast)[0];
         assert!(v < 0.0, "{mode}: the ball did not bounce (v = {v})");
         if mode != Mode::Native {
-            assert!((f64::from(v) + 60.0).abs() < 60.0 * tol(), "{mode}: elastic wall, v = {v}");
+            assert!(
+                (f64::from(v) + 60.0).abs() < 60.0 * tol(),
+                "{mode}: elastic wall, v = {v}"
+            );
         }
     }
 }
@@ -178,8 +225,16 @@ fn exact_mode_stops_fast_balls_tunnelling_through_balls() {
         assert!(xf < xt, "step {step}: tunnelled ({xf} >= {xt})");
     }
     // Equal masses, elastic: the velocities are exchanged.
-    assert!(f64::from(w.vel(fast).length()) < tol() * 60.0, "{:?}", w.vel(fast));
-    assert!(f64::from((w.vel(target) - Vector::X * 60.0).length()) < tol() * 60.0, "{:?}", w.vel(target));
+    assert!(
+        f64::from(w.vel(fast).length()) < tol() * 60.0,
+        "{:?}",
+        w.vel(fast)
+    );
+    assert!(
+        f64::from((w.vel(target) - Vector::X * 60.0).length()) < tol() * 60.0,
+        "{:?}",
+        w.vel(target)
+    );
     assert_eq!(w.kimpact.stats().impacts, 1);
 }
 
@@ -189,11 +244,17 @@ fn only_moving_marked_bodies_carry_the_hook() {
     let (_, moving) = w.ball(Vector::ZERO, Vector::X, 0.5, 1.0);
     let (_, resting) = w.ball(Vector::X * 10.0, Vector::ZERO, 0.5, 1.0);
     // An unmarked moving ball never gets the hook.
-    let body = RigidBodyBuilder::dynamic().translation(Vector::X * -10.0).linvel(Vector::X);
+    let body = RigidBodyBuilder::dynamic()
+        .translation(Vector::X * -10.0)
+        .linvel(Vector::X);
     let (_, unmarked) = w.world.insert(body, ColliderBuilder::ball(0.5));
     w.step();
     w.step();
-    let hooked = |c: ColliderHandle| w.world.colliders[c].active_hooks().contains(ActiveHooks::MODIFY_SOLVER_CONTACTS);
+    let hooked = |c: ColliderHandle| {
+        w.world.colliders[c]
+            .active_hooks()
+            .contains(ActiveHooks::MODIFY_SOLVER_CONTACTS)
+    };
     assert!(hooked(moving));
     assert!(!hooked(resting));
     assert!(!hooked(unmarked));
@@ -209,7 +270,11 @@ fn non_finite_velocities_never_spread() {
     for _ in 0..5 {
         w.step();
     }
-    assert!(w.vel(b).is_finite() && w.pos(b).is_finite(), "NaN reached the partner: {:?}", w.vel(b));
+    assert!(
+        w.vel(b).is_finite() && w.pos(b).is_finite(),
+        "NaN reached the partner: {:?}",
+        w.vel(b)
+    );
 }
 
 /// A small gas with a wall box, every mode: the positions and velocities
@@ -249,10 +314,28 @@ fn the_same_scene_twice_gives_bit_identical_bodies() {
 #[test]
 fn invalid_law_changes_at_run_time_are_rejected() {
     let mut w = TestWorld::new(Mode::Exact, 0.01, Vector::ZERO);
-    let err = w.kimpact.set_law(LawParams { dissipation: -1.0, ..Default::default() });
-    assert!(matches!(err, Err(kimpact::LawError::InvalidDissipation { parameter: "dissipation", .. })));
-    assert_eq!(w.kimpact.law().dissipation(), 0.01, "the old value stays in force");
-    w.kimpact.set_law(LawParams { dissipation: 0.02, ..Default::default() }).unwrap();
+    let err = w.kimpact.set_law(LawParams {
+        dissipation: -1.0,
+        ..Default::default()
+    });
+    assert!(matches!(
+        err,
+        Err(kimpact::LawError::InvalidDissipation {
+            parameter: "dissipation",
+            ..
+        })
+    ));
+    assert_eq!(
+        w.kimpact.law().dissipation(),
+        0.01,
+        "the old value stays in force"
+    );
+    w.kimpact
+        .set_law(LawParams {
+            dissipation: 0.02,
+            ..Default::default()
+        })
+        .unwrap();
     assert_eq!(w.kimpact.law().dissipation(), 0.02);
     let _ = Law::<Real>::elastic();
 }

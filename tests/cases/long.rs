@@ -4,13 +4,23 @@
 struct Lcg(u64);
 impl Lcg {
     fn next(&mut self) -> Real {
-        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         ((self.0 >> 11) as f64 / (1u64 << 53) as f64) as Real
     }
 }
 
 /// `n` balls of radius `r` on a grid inside a box of inner half-size `half`.
-fn fill(w: &mut TestWorld, n: usize, r: Real, half: Real, speed: Real, masses: &[Real]) -> Vec<RigidBodyHandle> {
+fn fill(
+    w: &mut TestWorld,
+    n: usize,
+    r: Real,
+    half: Real,
+    speed: Real,
+    masses: &[Real],
+) -> Vec<RigidBodyHandle> {
     let mut rng = Lcg(42);
     let per_side = ((n as f64).powf(1.0 / DIM as f64).ceil()) as usize;
     let spacing = 2.0 * half / per_side as Real;
@@ -61,9 +71,17 @@ fn gas(mode: Mode, steps: usize) -> (f64, f64, bool) {
 fn exact_gas_check() {
     let (e0, e1, inside) = gas(Mode::Exact, 10_000);
     assert!(inside, "a ball escaped the box");
-    assert!(((e1 - e0) / e0).abs() < 1e-9, "exact: energy {e0} -> {e1} (relative {:e})", (e1 - e0) / e0);
+    assert!(
+        ((e1 - e0) / e0).abs() < 1e-9,
+        "exact: energy {e0} -> {e1} (relative {:e})",
+        (e1 - e0) / e0
+    );
     let (n0, n1, _) = gas(Mode::Native, 10_000);
-    eprintln!("gas {DIM}D: exact keeps {:.3e} relative; native loses {:.1}%", (e1 - e0) / e0, 100.0 * (1.0 - n1 / n0));
+    eprintln!(
+        "gas {DIM}D: exact keeps {:.3e} relative; native loses {:.1}%",
+        (e1 - e0) / e0,
+        100.0 * (1.0 - n1 / n0)
+    );
 }
 
 /// 1,000 balls of mixed masses dropped into an open box under gravity.
@@ -82,15 +100,27 @@ fn pit(mode: Mode, steps: usize) -> (f64, f64, bool) {
     }
     // Energies are measured from the floor, so the scale is the pile's
     // potential energy plus its kinetic energy.
-    let floor = w.world.bodies.iter().filter(|(_, b)| b.is_dynamic()).map(|(_, b)| f64::from(b.mass()) * 9.81 * f64::from(half)).sum::<f64>();
-    (max_rise / (e0 + floor), w.kinetic(), inside(&w, &balls, half))
+    let floor = w
+        .world
+        .bodies
+        .iter()
+        .filter(|(_, b)| b.is_dynamic())
+        .map(|(_, b)| f64::from(b.mass()) * 9.81 * f64::from(half))
+        .sum::<f64>();
+    (
+        max_rise / (e0 + floor),
+        w.kinetic(),
+        inside(&w, &balls, half),
+    )
 }
 
 #[test]
 fn ball_pits_never_gain_energy_in_any_mode() {
     for mode in Mode::ALL {
         let (rise, kinetic, inside) = pit(mode, 400);
-        eprintln!("pit {DIM}D {mode}: largest energy rise {rise:.2e} of the total; final kinetic {kinetic:.3e}");
+        eprintln!(
+            "pit {DIM}D {mode}: largest energy rise {rise:.2e} of the total; final kinetic {kinetic:.3e}"
+        );
         assert!(inside, "{mode}: a ball left the pit");
         assert!(kinetic.is_finite());
         // rapier's own contact correction may add a little (it does in

@@ -17,14 +17,33 @@ impl TestWorld {
     pub fn new(mode: Mode, dissipation: Real, gravity: Vector) -> Self {
         let mut world = PhysicsWorld::new();
         world.gravity = gravity;
-        let law = Law::new(LawParams { dissipation, ..Default::default() }).unwrap();
-        Self { world, kimpact: Kimpact::new(law, mode) }
+        let law = Law::new(LawParams {
+            dissipation,
+            ..Default::default()
+        })
+        .unwrap();
+        Self {
+            world,
+            kimpact: Kimpact::new(law, mode),
+        }
     }
 
     /// A frictionless ball of mass `mass`, marked.
-    pub fn ball(&mut self, position: Vector, velocity: Vector, radius: Real, mass: Real) -> (RigidBodyHandle, ColliderHandle) {
-        let body = RigidBodyBuilder::dynamic().translation(position).linvel(velocity).can_sleep(false);
-        let collider = ColliderBuilder::ball(radius).mass(mass).friction(0.0).restitution(1.0);
+    pub fn ball(
+        &mut self,
+        position: Vector,
+        velocity: Vector,
+        radius: Real,
+        mass: Real,
+    ) -> (RigidBodyHandle, ColliderHandle) {
+        let body = RigidBodyBuilder::dynamic()
+            .translation(position)
+            .linvel(velocity)
+            .can_sleep(false);
+        let collider = ColliderBuilder::ball(radius)
+            .mass(mass)
+            .friction(0.0)
+            .restitution(1.0);
         let (b, c) = self.world.insert(body, collider);
         self.kimpact.mark(c);
         (b, c)
@@ -85,4 +104,3 @@ impl TestWorld {
             .sum()
     }
 }
-

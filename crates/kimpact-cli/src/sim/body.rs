@@ -14,8 +14,14 @@ pub(super) fn run(
     use k::math::Real;
     use k::rapier::prelude::*;
 
-    let kmode: k::Mode = mode.name().parse().expect("the adapters share the mode names");
-    let mut world = PhysicsWorld { gravity: vector(&scene.effective_gravity()), ..PhysicsWorld::default() };
+    let kmode: k::Mode = mode
+        .name()
+        .parse()
+        .expect("the adapters share the mode names");
+    let mut world = PhysicsWorld {
+        gravity: vector(&scene.effective_gravity()),
+        ..PhysicsWorld::default()
+    };
     world.integration_parameters.dt = scene.dt as Real;
 
     let spin = scene.active(Effect::Spin);
@@ -27,7 +33,10 @@ pub(super) fn run(
         fixed_partner: spec.fixed_partner,
     })
     .expect("the scene's law was validated");
-    let config = k::Config { fixed_partners: scene.active(Effect::FixedWalls), ..k::Config::default() };
+    let config = k::Config {
+        fixed_partners: scene.active(Effect::FixedWalls),
+        ..k::Config::default()
+    };
     let mut kimpact = k::Kimpact::with_config(law, kmode, config);
 
     let ccd = scene.ccd_flags();
@@ -36,8 +45,15 @@ pub(super) fn run(
     let mut of_collider: Vec<Option<(usize, f64)>> = Vec::new();
     let mut law_bodies = 0;
     for (i, b) in scene.bodies.iter().enumerate() {
-        let rb = if b.fixed { RigidBodyBuilder::fixed() } else { RigidBodyBuilder::dynamic() };
-        let mut rb = rb.translation(vector(&b.position)).linvel(vector(&b.velocity)).ccd_enabled(ccd[i]);
+        let rb = if b.fixed {
+            RigidBodyBuilder::fixed()
+        } else {
+            RigidBodyBuilder::dynamic()
+        };
+        let mut rb = rb
+            .translation(vector(&b.position))
+            .linvel(vector(&b.velocity))
+            .ccd_enabled(ccd[i]);
         if !spin && !b.fixed {
             rb = rb.lock_rotations();
         }
@@ -99,14 +115,24 @@ pub(super) fn run(
                 }
             }
         }
-        super::Sample { time, kinetic, potential, momentum_all, momentum_law }
+        super::Sample {
+            time,
+            kinetic,
+            potential,
+            momentum_all,
+            momentum_law,
+        }
     };
     let state = |world: &PhysicsWorld| -> Vec<super::BodyState> {
         handles
             .iter()
             .map(|h| {
                 let rb = &world.bodies[*h];
-                super::BodyState { position: to_vec(rb.translation()), velocity: to_vec(rb.linvel()), rotation: rotation(rb) }
+                super::BodyState {
+                    position: to_vec(rb.translation()),
+                    velocity: to_vec(rb.linvel()),
+                    rotation: rotation(rb),
+                }
             })
             .collect()
     };
@@ -116,7 +142,10 @@ pub(super) fn run(
     samples.push(sample(&world, 0.0));
     let mut next_frame = 0;
     while next_frame < frame_steps.len() && frame_steps[next_frame] == 0 {
-        frames.push(super::Frame { time: 0.0, bodies: state(&world) });
+        frames.push(super::Frame {
+            time: 0.0,
+            bodies: state(&world),
+        });
         next_frame += 1;
     }
     let mut wall = std::time::Duration::ZERO;
@@ -133,7 +162,11 @@ pub(super) fn run(
             }
             let size = |c: ColliderHandle| {
                 let (index, _) = c.into_raw_parts();
-                of_collider.get(index as usize).copied().flatten().map_or(f64::INFINITY, |x| x.1)
+                of_collider
+                    .get(index as usize)
+                    .copied()
+                    .flatten()
+                    .map_or(f64::INFINITY, |x| x.1)
             };
             let smaller = size(pair.collider1).min(size(pair.collider2));
             for manifold in pair.manifolds() {
@@ -150,7 +183,10 @@ pub(super) fn run(
         }
         samples.push(sample(&world, time));
         while next_frame < frame_steps.len() && frame_steps[next_frame] == step {
-            frames.push(super::Frame { time, bodies: state(&world) });
+            frames.push(super::Frame {
+                time,
+                bodies: state(&world),
+            });
             next_frame += 1;
         }
         if let Some(p) = progress {

@@ -14,8 +14,12 @@ fn to_vec(v: k::math::Vector) -> Vec<f64> {
 fn collider(shape: &crate::scene::Shape) -> k::rapier::prelude::ColliderBuilder {
     use k::math::Real;
     match shape {
-        crate::scene::Shape::Ball { radius } => k::rapier::prelude::ColliderBuilder::ball(*radius as Real),
-        crate::scene::Shape::Box { half_extents: h } => k::rapier::prelude::ColliderBuilder::cuboid(h[0] as Real, h[1] as Real),
+        crate::scene::Shape::Ball { radius } => {
+            k::rapier::prelude::ColliderBuilder::ball(*radius as Real)
+        }
+        crate::scene::Shape::Box { half_extents: h } => {
+            k::rapier::prelude::ColliderBuilder::cuboid(h[0] as Real, h[1] as Real)
+        }
     }
 }
 
