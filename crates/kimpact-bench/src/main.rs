@@ -1,0 +1,640 @@
+//! `kimpact-bench`: what each accuracy level costs against native rapier.
+//!
+//! For every chosen scene, ball count and precision, each law mode gets a
+//! timing run: a child process of this binary that builds the scene twice,
+//! native and with the mode, and steps the two in lockstep, alternating
+//! blocks of steps (native, mode, native, mode…) so that whatever else the
+//! machine does hits both alike; the ratio to native comes from that same
+//! process. Each mode (native too) then runs alone in another child for its
+//! peak resident memory and, in an untimed second pass, the attribution of
+//! its heap allocations to kimpact's code or rapier's (from backtraces).
+//! The parent prints a markdown table (median time per step, ratio,
+//! allocations per step, peak RSS, the budgets of issue 6 as PASS/MISS,
+//! scaling slopes) and writes `results.csv`, `results.md` and one
+//! `scaling-<scene>-<precision>.svg` per scene with several ball counts.
+//!
+//! Benchmarks are not tests: nothing here fails on a timing.
+// `f64::from(x)` converts in the f32 builds and is the identity in the f64 ones.
+#![allow(clippy::useless_conversion, clippy::unnecessary_cast)]
+
+mod alloc;
+mod memory;
+mod report;
+
+use std::io::Read;
+use std::path::PathBuf;
+use std::process::{Command, ExitCode, Stdio};
+use std::time::{Duration, Instant};
+
+use clap::{Parser, ValueEnum};
+use serde::{Deserialize, Serialize};
+
+#[global_allocator]
+static ALLOCATOR: alloc::Counting = alloc::Counting;
+
+mod d2 {
+    use kimpact2d as k;
+    include!("scene.rs");
+}
+
+mod d3 {
+    use kimpact3d as k;
+    include!("scene.rs");
+}
+
+mod d2_f64 {
+    use kimpact2d_f64 as k;
+    include!("scene.rs");
+}
+
+mod d3_f64 {
+    use kimpact3d_f64 as k;
+    include!("scene.rs");
+}
+
+/// The bench scenes.
+#[derive(
+    Copy, Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, ValueEnum, Serialize, Deserialize,
+)]
+#[serde(rename_all = "lowercase")]
+pub enum Scene {
+    /// 3D ball pit under gravity: mixed masses dropped into a closed box.
+    #[value(name = "pit3d")]
+    Pit3d,
+    /// 2D ball pit under gravity.
+    #[value(name = "pit2d")]
+    Pit2d,
+    /// 3D elastic gas in a closed box (no gravity, no sleeping).
+    #[value(name = "gas3d")]
+    Gas3d,
+    /// 2D elastic gas in a closed box.
+    #[value(name = "gas2d")]
+    Gas2d,
+    /// 2D billiards break: 15 racked balls and the cue ball (16 balls).
+    #[value(name = "billiards")]
+    Billiards,
+    /// 2D, no gravity: one cue ball moving through resting balls (awake).
+    #[value(name = "cue")]
+    Cue,
+}
+
+impl Scene {
+    /// Every scene, in table order.
+    pub const ALL: [Scene; 6] = [
+        Scene::Pit3d,
+        Scene::Pit2d,
+        Scene::Gas3d,
+        Scene::Gas2d,
+        Scene::Billiards,
+        Scene::Cue,
+    ];
+
+    /// The scene's dimension.
+    pub fn dim(self) -> usize {
+        match self {
+            Scene::Pit3d | Scene::Gas3d => 3,
+            _ => 2,
+        }
+    }
+
+    /// Whether `--balls` sets its size (billiards has 16 balls).
+    pub fn scales(self) -> bool {
+        self != Scene::Billiards
+    }
+
+    /// The name used on the command line and in the outputs.
+    pub fn name(self) -> &'static str {
+        match self {
+            Scene::Pit3d => "pit3d",
+            Scene::Pit2d => "pit2d",
+            Scene::Gas3d => "gas3d",
+            Scene::Gas2d => "gas2d",
+            Scene::Billiards => "billiards",
+            Scene::Cue => "cue",
+        }
+    }
+}
+
+/// The accuracy ladder (`k::Mode` is a different type in each adapter crate).
+#[derive(
+    Copy, Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, ValueEnum, Serialize, Deserialize,
+)]
+#[serde(rename_all = "lowercase")]
+pub enum ModeName {
+    /// rapier unchanged.
+    Native,
+    /// The law's restitution written into rapier's manifolds.
+    Restitution,
+    /// The law's velocity change after rapier's step.
+    Impulse,
+    /// Time-ordered impacts at the analytic time of impact.
+    Exact,
+}
+
+impl ModeName {
+    /// Every mode, cheapest first.
+    pub const ALL: [ModeName; 4] = [
+        ModeName::Native,
+        ModeName::Restitution,
+        ModeName::Impulse,
+        ModeName::Exact,
+    ];
+
+    /// The name as in `kimpact::Mode`'s `FromStr`.
+    pub fn name(self) -> &'static str {
+        match self {
+            ModeName::Native => "native",
+            ModeName::Restitution => "restitution",
+            ModeName::Impulse => "impulse",
+            ModeName::Exact => "exact",
+        }
+    }
+}
+
+/// Floating-point precision (which adapter crate runs the scene).
+#[derive(
+    Copy, Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, ValueEnum, Serialize, Deserialize,
+)]
+#[serde(rename_all = "lowercase")]
+pub enum Precision {
+    /// `kimpact2d` / `kimpact3d` (rapier2d / rapier3d).
+    #[value(name = "f32")]
+    F32,
+    /// `kimpact2d-f64` / `kimpact3d-f64`.
+    #[value(name = "f64")]
+    F64,
+}
+
+impl Precision {
+    /// "f32" or "f64".
+    pub fn name(self) -> &'static str {
+        match self {
+            Precision::F32 => "f32",
+            Precision::F64 => "f64",
+        }
+    }
+}
+
+/// Which time per step the medians and ratios use (both are recorded).
+#[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Clock {
+    /// CPU time of the process during the step (all threads): robust to
+    /// other work on a shared machine.
+    Cpu,
+    /// Wall-clock time of the step.
+    Wall,
+}
+
+impl Clock {
+    /// "cpu" or "wall".
+    pub fn name(self) -> &'static str {
+        match self {
+            Clock::Cpu => "cpu",
+            Clock::Wall => "wall",
+        }
+    }
+}
+
+/// What the measured steps of one world did.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+pub struct Measure {
+    pub steps: usize,
+    /// Wall time of each measured step, in microseconds.
+    pub times_us: Vec<f64>,
+    /// CPU time of the process (all threads) during each measured step, in
+    /// microseconds.
+    pub cpu_us: Vec<f64>,
+    /// Heap allocations during the measured steps (all threads).
+    pub allocs: u64,
+    /// Bytes requested by those allocations.
+    pub alloc_bytes: u64,
+    /// Impacts the law resolved during the measured steps.
+    pub impacts: u64,
+    pub cap_hits: u64,
+    pub skipped: u64,
+    /// Kinetic + potential energy (from the floor) at the start and the end
+    /// of the measured steps.
+    pub energy_start: f64,
+    pub energy_end: f64,
+    pub non_finite: usize,
+    pub escaped: usize,
+    pub awake_end: usize,
+}
+
+/// A timing child: native and one mode, in lockstep in one process.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Pair {
+    pub scene: Scene,
+    /// Dynamic balls in the scene.
+    pub balls: usize,
+    pub mode: ModeName,
+    pub precision: String,
+    /// Whether rapier's `parallel` feature was on.
+    pub parallel: bool,
+    pub warmup: usize,
+    pub block: usize,
+    pub native: Measure,
+    pub law: Measure,
+}
+
+/// A memory child: one mode alone, its peak RSS and the attribution of its
+/// allocations.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Solo {
+    pub scene: Scene,
+    pub balls: usize,
+    pub mode: ModeName,
+    pub precision: String,
+    pub steps: usize,
+    /// Allocations during the measured steps (untimed run).
+    pub allocs: u64,
+    /// `VmHWM` after warm-up and the measured steps, KiB.
+    pub peak_rss_kib: u64,
+    /// Whether a second pass attributed the allocations from backtraces.
+    pub attributed: bool,
+    /// Allocations during that pass's measured steps, how many were
+    /// classified, and how many of these were kimpact's own.
+    pub attr_seen: u64,
+    pub attr_sampled: u64,
+    pub attr_own: u64,
+}
+
+/// The kimpact benchmark matrix: time per step against native rapier,
+/// memory and allocations, scaling, and the budgets of the issue.
+#[derive(Parser, Debug)]
+#[command(name = "kimpact-bench", version)]
+struct Cli {
+    /// Scenes to run (comma-separated).
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = Scene::ALL)]
+    scene: Vec<Scene>,
+    /// Ball counts for the scenes that scale (all but billiards).
+    #[arg(long, value_delimiter = ',', default_values_t = [1000usize, 10000])]
+    balls: Vec<usize>,
+    /// Add the 100,000-ball size (slow: minutes per scene).
+    #[arg(long)]
+    big: bool,
+    /// Law modes to run; native always runs too (it is the reference).
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = ModeName::ALL)]
+    mode: Vec<ModeName>,
+    /// Precisions to run.
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [Precision::F32, Precision::F64])]
+    precision: Vec<Precision>,
+    /// Measured steps per run (the budgets need at least 200).
+    #[arg(long, default_value_t = 200)]
+    steps: usize,
+    /// Steps of the memory runs (each mode alone: peak RSS, and the
+    /// attribution of allocations), after the same warm-up.
+    #[arg(long, default_value_t = 50)]
+    memory_steps: usize,
+    /// Steps before measuring, in every run.
+    #[arg(long, default_value_t = 50)]
+    warmup: usize,
+    /// Timing runs per mode (each a child process running native and the
+    /// mode in lockstep); the medians pool them.
+    #[arg(long, default_value_t = 1)]
+    rounds: usize,
+    /// Steps per block when alternating native and the mode in a timing run.
+    #[arg(long, default_value_t = 10)]
+    block: usize,
+    /// Which time the medians and ratios use: process CPU time (default;
+    /// the machine may be shared) or wall time. Both go in the CSV.
+    #[arg(long, value_enum, default_value_t = Clock::Cpu)]
+    clock: Clock,
+    /// Where results.csv, results.md and the plots go.
+    #[arg(long, default_value = "target/kimpact-bench")]
+    out: PathBuf,
+    /// Seconds before a child run is killed and reported as timed out.
+    #[arg(long, default_value_t = 600)]
+    timeout: u64,
+    /// Skip the untimed pass that attributes the heap allocations of the
+    /// measured steps to kimpact or rapier from backtraces (~1,000
+    /// classified per mode and configuration, about a second each).
+    #[arg(long)]
+    no_attribute: bool,
+    /// Internal (with --solo): run the attribution pass.
+    #[arg(long, hide = true)]
+    attribute: bool,
+    /// Rebuild the table, CSV and plots from `<out>/raw.json` of an earlier
+    /// run, without running anything.
+    #[arg(long)]
+    rerender: bool,
+    /// Internal: run one timing pair (native and the first mode) in this
+    /// process and print it as JSON.
+    #[arg(long, hide = true)]
+    pair: bool,
+    /// Internal: run one mode alone for memory (and attribution with
+    /// --attribute) and print it as JSON.
+    #[arg(long, hide = true)]
+    solo: bool,
+}
+
+/// A child process of this binary, its JSON answer parsed; `Err` with the
+/// reason when it failed (a panic, a timeout, no answer).
+fn spawn_child<T: serde::de::DeserializeOwned>(cli: &Cli, args: &[String]) -> Result<T, String> {
+    let exe = std::env::current_exe().map_err(|e| format!("no executable path: {e}"))?;
+    let mut child = Command::new(exe)
+        .args(args)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .map_err(|e| format!("cannot start a child: {e}"))?;
+    let mut stdout = child.stdout.take().expect("piped");
+    let mut stderr = child.stderr.take().expect("piped");
+    let out = std::thread::spawn(move || {
+        let mut s = String::new();
+        let _ = stdout.read_to_string(&mut s);
+        s
+    });
+    let err = std::thread::spawn(move || {
+        let mut s = String::new();
+        let _ = stderr.read_to_string(&mut s);
+        s
+    });
+    let start = Instant::now();
+    let status = loop {
+        match child.try_wait() {
+            Ok(Some(status)) => break Some(status),
+            Ok(None) if start.elapsed() > Duration::from_secs(cli.timeout) => {
+                let _ = child.kill();
+                let _ = child.wait();
+                break None;
+            }
+            Ok(None) => std::thread::sleep(Duration::from_millis(20)),
+            Err(e) => return Err(format!("waiting for the child: {e}")),
+        }
+    };
+    let out = out.join().unwrap_or_default();
+    let err = err.join().unwrap_or_default();
+    match status {
+        None => Err(format!("timed out after {} s", cli.timeout)),
+        Some(s) if !s.success() => {
+            let lines = err
+                .lines()
+                .filter(|l| !l.trim().is_empty())
+                .take(3)
+                .collect::<Vec<_>>()
+                .join(" | ");
+            Err(format!("child failed ({s}): {lines}"))
+        }
+        Some(_) => match out.lines().rev().find(|l| l.starts_with('{')) {
+            Some(line) => {
+                serde_json::from_str(line).map_err(|e| format!("unreadable child output: {e}"))
+            }
+            None => Err("the child printed no result".to_owned()),
+        },
+    }
+}
+
+/// The arguments of a child for one configuration.
+fn child_args(
+    cli: &Cli,
+    kind: &str,
+    scene: Scene,
+    balls: usize,
+    mode: ModeName,
+    precision: Precision,
+) -> Vec<String> {
+    let steps = if kind == "--solo" {
+        cli.memory_steps
+    } else {
+        cli.steps
+    };
+    let mut args: Vec<String> = [
+        kind,
+        "--scene",
+        scene.name(),
+        "--mode",
+        mode.name(),
+        "--precision",
+        precision.name(),
+    ]
+    .iter()
+    .map(|s| (*s).to_owned())
+    .collect();
+    for (flag, value) in [
+        ("--balls", balls),
+        ("--steps", steps),
+        ("--warmup", cli.warmup),
+        ("--block", cli.block),
+    ] {
+        args.push(flag.to_owned());
+        args.push(value.to_string());
+    }
+    args
+}
+
+/// In a child: run what `--pair` or `--solo` asks and print it as JSON.
+fn child_main(cli: &Cli) -> ExitCode {
+    let (Some(&scene), Some(&balls), Some(&mode), Some(&precision)) = (
+        cli.scene.first(),
+        cli.balls.first(),
+        cli.mode.first(),
+        cli.precision.first(),
+    ) else {
+        eprintln!("--pair/--solo need a scene, a ball count, a mode and a precision");
+        return ExitCode::FAILURE;
+    };
+    let (w, st) = (cli.warmup, cli.steps);
+    let json = if cli.pair {
+        let (b, run) = (cli.block, (scene.dim(), precision));
+        let pair = match run {
+            (2, Precision::F32) => d2::run_pair(scene, balls, mode, w, st, b),
+            (2, Precision::F64) => d2_f64::run_pair(scene, balls, mode, w, st, b),
+            (_, Precision::F32) => d3::run_pair(scene, balls, mode, w, st, b),
+            (_, Precision::F64) => d3_f64::run_pair(scene, balls, mode, w, st, b),
+        };
+        pair.map(|p| serde_json::to_string(&p))
+    } else {
+        let (a, run) = (cli.attribute, (scene.dim(), precision));
+        let solo = match run {
+            (2, Precision::F32) => d2::run_solo(scene, balls, mode, w, st, a),
+            (2, Precision::F64) => d2_f64::run_solo(scene, balls, mode, w, st, a),
+            (_, Precision::F32) => d3::run_solo(scene, balls, mode, w, st, a),
+            (_, Precision::F64) => d3_f64::run_solo(scene, balls, mode, w, st, a),
+        };
+        solo.map(|s| serde_json::to_string(&s))
+    };
+    match json {
+        Some(Ok(json)) => {
+            println!("{json}");
+            ExitCode::SUCCESS
+        }
+        Some(Err(e)) => {
+            eprintln!("cannot write the result: {e}");
+            ExitCode::FAILURE
+        }
+        None => {
+            eprintln!("scene {} has no {precision:?} build", scene.name());
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn machine() -> String {
+    let cpus = std::thread::available_parallelism().map_or(0, |n| n.get());
+    let model = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find_map(|l| l.strip_prefix("model name"))
+                .map(|v| v.trim_start_matches([' ', '\t', ':']).trim().to_owned())
+        })
+        .unwrap_or_else(|| "unknown CPU".to_owned());
+    format!("{cpus} CPUs available (nproc), {model}")
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    if cli.pair || cli.solo {
+        return child_main(&cli);
+    }
+    if cli.rerender {
+        let raw = std::fs::read_to_string(cli.out.join("raw.json"))
+            .map_err(|e| e.to_string())
+            .and_then(|s| serde_json::from_str::<report::Raw>(&s).map_err(|e| e.to_string()));
+        return match raw {
+            Ok(raw) => render(&cli, &raw),
+            Err(e) => {
+                eprintln!("cannot read {}/raw.json: {e}", cli.out.display());
+                ExitCode::FAILURE
+            }
+        };
+    }
+
+    let mut counts = cli.balls.clone();
+    if cli.big {
+        counts.push(100_000);
+    }
+    counts.sort_unstable();
+    counts.dedup();
+    let mut modes = vec![ModeName::Native];
+    modes.extend(cli.mode.iter().copied().filter(|&m| m != ModeName::Native));
+    modes.sort_unstable();
+    modes.dedup();
+    let mut scenes = cli.scene.clone();
+    scenes.sort_unstable();
+    scenes.dedup();
+    let mut precisions = cli.precision.clone();
+    precisions.sort_unstable();
+    precisions.dedup();
+    let rounds = cli.rounds.max(1);
+    if cli.steps < 200 {
+        eprintln!(
+            "note: {} measured steps per run; the budgets are defined on at least 200",
+            cli.steps
+        );
+    }
+
+    let command = std::iter::once("kimpact-bench".to_owned())
+        .chain(std::env::args().skip(1))
+        .collect::<Vec<_>>()
+        .join(" ");
+    let started = Instant::now();
+    let mut groups = Vec::new();
+    for &precision in &precisions {
+        for &scene in &scenes {
+            let sizes: Vec<usize> = if scene.scales() {
+                counts.clone()
+            } else {
+                vec![16]
+            };
+            for &balls in &sizes {
+                let law_modes: Vec<ModeName> = modes
+                    .iter()
+                    .copied()
+                    .filter(|&m| m != ModeName::Native)
+                    .collect();
+                // native against itself when no law mode was asked for
+                let timed = if law_modes.is_empty() {
+                    vec![ModeName::Native]
+                } else {
+                    law_modes
+                };
+                let progress = |what: &str, mode: ModeName| {
+                    eprintln!(
+                        "[{:>6.1}s] {} {} {} balls: {what} {}",
+                        started.elapsed().as_secs_f64(),
+                        precision.name(),
+                        scene.name(),
+                        balls,
+                        mode.name(),
+                    );
+                };
+                let mut pairs = Vec::new();
+                for _ in 0..rounds {
+                    for &mode in &timed {
+                        progress("timing native +", mode);
+                        let args = child_args(&cli, "--pair", scene, balls, mode, precision);
+                        let pair = spawn_child::<Pair>(&cli, &args);
+                        if let Err(e) = &pair {
+                            eprintln!("    failed: {e}");
+                        }
+                        pairs.push((mode, pair));
+                    }
+                }
+                let mut solos = Vec::new();
+                for &mode in &modes {
+                    progress("memory of", mode);
+                    let mut args = child_args(&cli, "--solo", scene, balls, mode, precision);
+                    if !cli.no_attribute {
+                        args.push("--attribute".to_owned());
+                    }
+                    let solo = spawn_child::<Solo>(&cli, &args);
+                    if let Err(e) = &solo {
+                        eprintln!("    failed: {e}");
+                    }
+                    solos.push((mode, solo));
+                }
+                groups.push(report::Group {
+                    clock: cli.clock,
+                    parallel: cfg!(feature = "parallel"),
+                    scene,
+                    precision,
+                    balls,
+                    modes: modes.clone(),
+                    pairs,
+                    solos,
+                });
+            }
+        }
+    }
+    let header = report::Header {
+        command,
+        machine: machine(),
+        parallel: cfg!(feature = "parallel"),
+        clock: cli.clock,
+        steps: cli.steps,
+        warmup: cli.warmup,
+        rounds,
+        block: cli.block,
+        memory_steps: cli.memory_steps,
+        wall_s: started.elapsed().as_secs_f64(),
+    };
+    let raw = report::Raw { header, groups };
+    if let Err(e) = std::fs::create_dir_all(&cli.out).and_then(|()| {
+        let json = serde_json::to_string(&raw).map_err(std::io::Error::other)?;
+        std::fs::write(cli.out.join("raw.json"), json)
+    }) {
+        eprintln!("cannot write {}/raw.json: {e}", cli.out.display());
+    }
+    render(&cli, &raw)
+}
+
+/// Print the table and write the outputs of a run.
+fn render(cli: &Cli, raw: &report::Raw) -> ExitCode {
+    let rows: Vec<report::Row> = raw.groups.iter().flat_map(report::rows).collect();
+    let header = &raw.header;
+    let markdown = report::markdown(header, &rows);
+    println!("{markdown}");
+    if let Err(e) = report::write_all(&cli.out, &markdown, &rows) {
+        eprintln!("cannot write the results to {}: {e}", cli.out.display());
+        return ExitCode::FAILURE;
+    }
+    eprintln!(
+        "wrote {}/results.csv, results.md, raw.json and the scaling plots",
+        cli.out.display()
+    );
+    ExitCode::SUCCESS
+}

@@ -1,0 +1,64 @@
+//! The bench binary runs end to end on the smallest scene (2 warm-up and 3
+//! measured steps, every mode and precision) and writes the CSV with its
+//! columns. Nothing here looks at a timing.
+
+use std::process::Command;
+
+const COLUMNS: [&str; 12] = [
+    "scene",
+    "precision",
+    "balls",
+    "mode",
+    "median_us",
+    "native_median_us",
+    "ratio",
+    "allocs_per_step",
+    "kimpact_allocs_per_step",
+    "peak_rss_mib",
+    "energy_rel_change",
+    "error",
+];
+
+#[test]
+fn the_bench_runs_the_smallest_scene_and_writes_its_csv() {
+    let out = std::env::temp_dir().join(format!("kimpact-bench-smoke-{}", std::process::id()));
+    let output = Command::new(env!("CARGO_BIN_EXE_kimpact-bench"))
+        .args(["--scene", "billiards", "--warmup", "2", "--steps", "3"])
+        .args(["--rounds", "1", "--no-attribute", "--out"])
+        .arg(&out)
+        .output()
+        .expect("the bench binary starts");
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        output.status.success(),
+        "kimpact-bench failed: {}\n{stdout}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(
+        stdout.contains("| billiards | f32 | 16 | exact |"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("### Budgets"), "{stdout}");
+
+    let csv = std::fs::read_to_string(out.join("results.csv")).expect("results.csv written");
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().expect("a header").split(',').collect();
+    for column in COLUMNS {
+        assert!(header.contains(&column), "no column {column} in {header:?}");
+    }
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    // 2 precisions x 4 modes, each row as wide as the header, none failed.
+    assert_eq!(rows.len(), 8, "{csv}");
+    let col = |name: &str| header.iter().position(|c| *c == name).unwrap();
+    for row in &rows {
+        assert_eq!(row.len(), header.len(), "{row:?}");
+        assert_eq!(row[col("error")], "", "a run failed: {row:?}");
+        assert_eq!(row[col("scene")], "billiards");
+        let median: f64 = row[col("median_us")].parse().expect("a number");
+        assert!(median > 0.0, "{row:?}");
+    }
+    for mode in ["native", "restitution", "impulse", "exact"] {
+        assert!(rows.iter().any(|r| r[col("mode")] == mode), "no {mode} row");
+    }
+    let _ = std::fs::remove_dir_all(&out);
+}
