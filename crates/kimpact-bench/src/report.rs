@@ -696,7 +696,15 @@ pub fn scaling_svg(rows: &[Row], scene: Scene, p: Precision) -> Result<Option<St
             .configure_mesh()
             .light_line_style(WHITE.mix(0.0))
             .x_label_formatter(&|x| format!("{x:.0}"))
-            .y_label_formatter(&|y| format!("{y:.3}"))
+            .y_label_formatter(&|y| {
+                if *y >= 10.0 {
+                    format!("{y:.0}")
+                } else if *y >= 1.0 {
+                    format!("{y:.1}")
+                } else {
+                    format!("{y:.3}")
+                }
+            })
             .x_desc("balls")
             .y_desc("median time per step (ms)")
             .draw()
