@@ -1364,9 +1364,8 @@ fn cooling_jobs<const D: usize>(b: Backend<D>, sizes: &Sizes) -> Out {
         );
         match &g.error {
             Some(err) => out.notes.push(format!(
-                "cooling {} reference, draw {seed} (skipped): {err}, after {} impacts: inelastic collapse",
-                b.label,
-                g.impacts.last().unwrap()
+                "cooling {} reference, draw {seed} (skipped): {err} (inelastic collapse)",
+                b.label
             )),
             None => good.push((seed, g)),
         }
@@ -1751,8 +1750,9 @@ fn svg(panels: &[Panel], cols: usize) -> String {
                 let xx = l + (r - l) * i as f64 / 5.0;
                 let _ = writeln!(
                     s,
-                    r##"<line x1="{xx}" x2="{xx}" y1="{t}" y2="{b}" stroke="#eee"/><text x="{xx}" y="{}" text-anchor="middle">{x:.3}</text>"##,
-                    b + 14.0
+                    r##"<line x1="{xx}" x2="{xx}" y1="{t}" y2="{b}" stroke="#eee"/><text x="{xx}" y="{}" text-anchor="middle">{}</text>"##,
+                    b + 14.0,
+                    (x * 100.0).round() / 100.0
                 );
             }
         }
