@@ -9,7 +9,7 @@ use core::str::FromStr;
 /// | --- | --- | --- |
 /// | `Native` | nobody: rapier unchanged | — |
 /// | `Restitution` | rapier's solver, with the law's restitution per manifold | at detection |
-/// | `Impulse` | kimpact, after rapier's step, pair by pair | at detection |
+/// | `Impulse` | kimpact, before rapier's step, in time order, velocities only | the step of the impact |
 /// | `Exact` | kimpact, in time order, at the analytic time of impact | inside the step |
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq, Hash)]
 #[cfg_attr(
@@ -25,9 +25,14 @@ pub enum Mode {
     /// for an isolated impact, inherits rapier's errors when contacts are
     /// simultaneous (Newton's cradle).
     Restitution,
-    /// rapier ignores marked impacts; kimpact applies the law's velocity
-    /// change after the step, to the velocities rapier produced, with the
-    /// positions moved as if the impact happened at the start of the step.
+    /// Before rapier's step, kimpact finds the impacts the marked bodies are
+    /// about to have this step (exact linear times of impact, chains through
+    /// touching bodies, in time order) and applies the law's velocity
+    /// changes; rapier's solver then integrates the new velocities with
+    /// every contact in place (the law's pairs separate, so rapier never
+    /// bounces them, and still keeps them from overlapping). Velocities are
+    /// the law's to rounding; positions are as if each impact happened at the
+    /// start of its step (off by at most `|Δv| dt`).
     Impulse,
     /// Impacts are resolved in time order inside the step at their analytic
     /// time of impact (with rewinds for pairs first seen overlapping, and

@@ -101,10 +101,30 @@ impl Ord for Entry {
     }
 }
 
+/// Before the step, how far past its end (relative to `dt`) a meeting is
+/// still taken in this step.
+pub(crate) const PRE_HORIZON: Real = 1e-3;
+
+/// When the replay runs, relative to rapier's step.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+enum Phase {
+    /// `Exact`: after the step, on the straight lines rapier moved the
+    /// bodies along; positions and velocities are written back.
+    #[default]
+    Post,
+    /// `Impulse`: before the step, on the lines the bodies are about to
+    /// follow (`v + g dt`); only velocities are written back, so rapier's
+    /// solver integrates the new velocities with every contact it keeps.
+    Pre,
+}
+
 /// Scratch space of the replay, kept between steps so that a steady state
 /// allocates nothing.
 #[derive(Default)]
 pub(crate) struct Replay {
+    phase: Phase,
+    /// `g dt`: what rapier adds to a dynamic body's velocity this step.
+    gravity_dt: Vector,
     nodes: Vec<Node>,
     index: HashMap<Key, usize>,
     pairs: Vec<Pair>,
@@ -143,6 +163,22 @@ impl Replay {
         }
         let rb = parent.and_then(|h| bodies.get(h));
         let node = match rb {
+            Some(rb) if rb.is_dynamic() && self.phase == Phase::Pre => {
+                let x = rb.translation();
+                let u = rb.linvel();
+                Node {
+                    key,
+                    dynamic: true,
+                    x1: x,
+                    p: x,
+                    v: u + self.gravity_dt * rb.gravity_scale(),
+                    u,
+                    t_ref: 0.0,
+                    version: 0,
+                    expanded: false,
+                    hit: false,
+                }
+            }
             Some(rb) if rb.is_dynamic() => {
                 let x1 = rb.translation();
                 let handle = parent.expect("a body has a handle");
@@ -180,7 +216,9 @@ impl Replay {
                     p: x1,
                     v,
                     u: v,
-                    t_ref: dt,
+                    // Where the body is now: the end of the step after
+                    // rapier's step, its start before it.
+                    t_ref: if self.phase == Phase::Pre { 0.0 } else { dt },
                     version: 0,
                     expanded: true,
                     hit: false,
@@ -239,11 +277,26 @@ impl Replay {
         Some(i)
     }
 
-    /// The pose of collider `c` of node `n` at time `t`.
-    fn pose(&self, colliders: &ColliderSet, n: usize, c: ColliderHandle, t: Real) -> Option<Pose> {
+    /// The pose of collider `c` of node `n` at time `t`. Taken from the
+    /// body's pose (rapier syncs collider poses only inside its step, so
+    /// before the step a body the user moved has a stale collider pose).
+    fn pose(
+        &self,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        n: usize,
+        c: ColliderHandle,
+        t: Real,
+    ) -> Option<Pose> {
         let co = colliders.get(c)?;
         let node = &self.nodes[n];
-        let mut pose = *co.position();
+        let mut pose = match (
+            co.parent().and_then(|h| bodies.get(h)),
+            co.position_wrt_parent(),
+        ) {
+            (Some(rb), Some(local)) => *rb.position() * *local,
+            _ => *co.position(),
+        };
         pose.translation += node.at(t) - node.x1;
         Some(pose)
     }
@@ -253,6 +306,7 @@ impl Replay {
     /// at the start, the meeting is searched back to `−dt` (a rewind).
     fn predict(
         &mut self,
+        bodies: &RigidBodySet,
         colliders: &ColliderSet,
         i: usize,
         from: Real,
@@ -260,7 +314,14 @@ impl Replay {
         allow_rewind: bool,
     ) {
         let pair = self.pairs[i];
-        let Some(hit) = self.cast(colliders, &pair, from, dt - from) else {
+        // Before the step, a meeting right at its end (up to rounding) is
+        // taken now: rapier would otherwise see the pair touching, fresh and
+        // approaching, and bounce it itself.
+        let end = match self.phase {
+            Phase::Post => dt,
+            Phase::Pre => dt * (1.0 + PRE_HORIZON),
+        };
+        let Some(hit) = self.cast(bodies, colliders, &pair, from, end - from) else {
             return;
         };
         let mut entry = Entry {
@@ -273,7 +334,7 @@ impl Replay {
         };
         if allow_rewind && hit.0 == 0.0 {
             // Overlapping at `from`: look for the true meeting in [−dt, 0].
-            if let Some(back) = self.cast(colliders, &pair, from - dt, dt)
+            if let Some(back) = self.cast(bodies, colliders, &pair, from - dt, dt)
                 && back.0 > 0.0
             {
                 entry.t = from - dt + back.0;
@@ -288,13 +349,14 @@ impl Replay {
     /// `window` seconds: (time after `from`, world normal, world point).
     fn cast(
         &self,
+        bodies: &RigidBodySet,
         colliders: &ColliderSet,
         pair: &Pair,
         from: Real,
         window: Real,
     ) -> Option<(Real, Vector, Vector)> {
-        let pos1 = self.pose(colliders, pair.a, pair.c1, from)?;
-        let pos2 = self.pose(colliders, pair.b, pair.c2, from)?;
+        let pos1 = self.pose(bodies, colliders, pair.a, pair.c1, from)?;
+        let pos2 = self.pose(bodies, colliders, pair.b, pair.c2, from)?;
         let s1 = colliders.get(pair.c1)?.shape();
         let s2 = colliders.get(pair.c2)?.shape();
         let options = ShapeCastOptions {
@@ -341,7 +403,9 @@ impl Replay {
         let config = k.config_ref();
         for &ch in rb.colliders() {
             for cp in narrow_phase.contact_pairs_with(ch) {
-                if !cp.has_any_active_contact()
+                // After the step, only the contacts rapier saw (touching
+                // neighbours); before it, every pair the broad phase keeps.
+                if (self.phase == Phase::Post && !cp.has_any_active_contact())
                     || !governs(
                         k.marked_ref(),
                         config.fixed_partners,
@@ -355,16 +419,24 @@ impl Replay {
                 }
                 if let Some(i) = self.add_pair(k, bodies, colliders, cp.collider1, cp.collider2, dt)
                 {
-                    self.predict(colliders, i, t, dt, false);
+                    self.predict(bodies, colliders, i, t, dt, false);
                 }
             }
         }
     }
 
-    /// Bodies that moved more than their own half-size this step can have
-    /// crossed a partner without a contact ever being seen (rapier's CCD
-    /// does not sweep dynamic against dynamic): query the broad phase along
-    /// their path and bring every governed collider it meets into the replay.
+    /// Bodies that move more than their own half-size this step can cross a
+    /// partner without a contact ever being seen (rapier's CCD does not
+    /// sweep dynamic against dynamic): query the broad phase along their
+    /// path over the step and bring every governed collider it meets into
+    /// the replay.
+    ///
+    /// `reach` (before the step, impulse mode): also sweep every body moving
+    /// more than this per step, with the box grown by `grow`. rapier's
+    /// narrow phase lists a pair one step after its broad phase saw it, and
+    /// its broad-phase boxes are grown by half the prediction distance: a pair
+    /// closing faster than that per step can meet before it is listed.
+    #[allow(clippy::too_many_arguments)]
     fn sweep_fast_bodies(
         &mut self,
         k: &Kimpact,
@@ -372,6 +444,8 @@ impl Replay {
         colliders: &ColliderSet,
         broad_phase: &BroadPhaseBvh,
         dt: Real,
+        reach: Real,
+        grow: Real,
     ) {
         let config = k.config_ref();
         for &ch in k.flagged_ref() {
@@ -379,18 +453,28 @@ impl Replay {
                 continue;
             };
             let Some(handle) = co.parent() else { continue };
-            let (Some(rb), Some(x0)) = (bodies.get(handle), k.start_of(handle)) else {
-                continue;
-            };
-            let moved = rb.translation() - x0;
-            let aabb = co.compute_aabb();
-            let half = 0.5 * (aabb.maxs - aabb.mins).min_element();
-            if moved.length() <= half {
+            if self.phase == Phase::Post && k.start_of(handle).is_none() {
                 continue;
             }
-            let mut start = *co.position();
-            start.translation -= moved;
-            let swept = co.compute_swept_aabb(&start);
+            let n = self.node(k, bodies, ch, Some(handle), dt);
+            let moved = self.nodes[n].v * dt;
+            let aabb = co.compute_aabb();
+            let half = 0.5 * (aabb.maxs - aabb.mins).min_element();
+            let fast = moved.length() > half;
+            if !fast && moved.length() <= reach {
+                continue;
+            }
+            let (Some(start), Some(end)) = (
+                self.pose(bodies, colliders, n, ch, 0.0),
+                self.pose(bodies, colliders, n, ch, dt),
+            ) else {
+                continue;
+            };
+            let swept = co
+                .shape()
+                .compute_aabb(&start)
+                .merged(&co.shape().compute_aabb(&end))
+                .loosened(grow);
             let dispatcher = crate::rapier::parry::query::DefaultQueryDispatcher;
             let query = broad_phase.as_query_pipeline(
                 &dispatcher,
@@ -412,10 +496,101 @@ impl Replay {
                     continue;
                 }
                 if let Some(i) = self.add_pair(k, bodies, colliders, ch, other, dt) {
-                    self.predict(colliders, i, 0.0, dt, true);
+                    self.predict(bodies, colliders, i, 0.0, dt, true);
                 }
             }
         }
+    }
+
+    /// Before rapier's step: the impacts the bodies are about to have this
+    /// step, resolved in time order on the velocities they have now. The
+    /// pairs are those the broad phase finds along the path of fast bodies
+    /// (more than half their size per step, which rapier could miss) and,
+    /// with `narrow` (`Impulse` mode), every governed pair rapier's narrow
+    /// phase holds for a moving marked collider. Only velocities change;
+    /// rapier's solver then integrates them with every contact in place (the
+    /// law's pairs separate, so their contacts carry no impulse unless
+    /// something pushes the pair together again).
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn run_pre(
+        &mut self,
+        k: &mut Kimpact,
+        bodies: &mut RigidBodySet,
+        colliders: &ColliderSet,
+        narrow_phase: &NarrowPhase,
+        broad_phase: &BroadPhaseBvh,
+        gravity: Vector,
+        dt: Real,
+        prediction: Real,
+        rest_speed: Real,
+        narrow: bool,
+    ) {
+        self.clear();
+        self.phase = Phase::Pre;
+        self.gravity_dt = gravity * dt;
+        if dt.is_nan() || dt <= 0.0 {
+            return;
+        }
+        let config = *k.config_ref();
+        let seeded = if narrow { k.flagged_ref().len() } else { 0 };
+        for j in 0..seeded {
+            let ch = k.flagged_ref()[j];
+            for cp in narrow_phase.contact_pairs_with(ch) {
+                if !governs(
+                    k.marked_ref(),
+                    config.fixed_partners,
+                    colliders,
+                    bodies,
+                    cp.collider1,
+                    cp.collider2,
+                ) {
+                    continue;
+                }
+                if let Some(i) = self.add_pair(k, bodies, colliders, cp.collider1, cp.collider2, dt)
+                {
+                    self.predict(bodies, colliders, i, 0.0, dt, true);
+                }
+            }
+        }
+        // Before the step: every moving body that could meet a partner the
+        // narrow phase does not list yet (see `sweep_fast_bodies`), the box
+        // grown by how far any partner moved since rapier's broad phase.
+        let (reach, grow) = if narrow {
+            let mut fastest: Real = 0.0;
+            for &ch in k.flagged_ref() {
+                if let Some(rb) = colliders
+                    .get(ch)
+                    .and_then(|co| co.parent())
+                    .and_then(|h| bodies.get(h))
+                {
+                    fastest =
+                        fastest.max((rb.linvel() + self.gravity_dt * rb.gravity_scale()).length());
+                }
+            }
+            (0.25 * prediction, 2.0 * fastest * dt)
+        } else {
+            (Real::INFINITY, 0.0)
+        };
+        self.sweep_fast_bodies(k, bodies, colliders, broad_phase, dt, reach, grow);
+        self.resolve(k, bodies, colliders, narrow_phase, dt, rest_speed);
+        for node in &self.nodes {
+            let (true, true, Key::Body(h)) = (node.dynamic, node.hit, node.key) else {
+                continue;
+            };
+            if let Some(rb) = bodies.get_mut(h)
+                && node.u.is_finite()
+            {
+                rb.set_linvel(node.u, true);
+            }
+        }
+    }
+
+    /// The bodies whose velocity the last run changed.
+    pub(crate) fn hit_bodies(&self) -> impl Iterator<Item = RigidBodyHandle> + '_ {
+        self.nodes.iter().filter_map(|n| match n.key {
+            Key::Body(h) if n.dynamic && n.hit => Some(h),
+            _ => None,
+        })
     }
 
     /// Resolve this step's impacts in time order and write the results back.
@@ -431,19 +606,46 @@ impl Replay {
         rest_speed: Real,
     ) {
         self.clear();
+        self.phase = Phase::Post;
         if dt.is_nan() || dt <= 0.0 {
             return;
         }
         for j in 0..k.candidates_sorted().len() {
             let c: Candidate = k.candidates_sorted()[j];
             if let Some(i) = self.add_pair(k, bodies, colliders, c.collider1, c.collider2, dt) {
-                self.predict(colliders, i, 0.0, dt, true);
+                self.predict(bodies, colliders, i, 0.0, dt, true);
             }
         }
-        self.sweep_fast_bodies(k, bodies, colliders, broad_phase, dt);
-        if self.heap.is_empty() {
-            return;
+        self.sweep_fast_bodies(k, bodies, colliders, broad_phase, dt, Real::INFINITY, 0.0);
+        self.resolve(k, bodies, colliders, narrow_phase, dt, rest_speed);
+        // Write back the bodies whose path the law bent.
+        for node in &self.nodes {
+            let (true, true, Key::Body(h)) = (node.dynamic, node.hit, node.key) else {
+                continue;
+            };
+            let Some(rb) = bodies.get_mut(h) else {
+                continue;
+            };
+            let x = node.at(dt);
+            let v = node.u;
+            if x.is_finite() && v.is_finite() {
+                rb.set_translation(x, true);
+                rb.set_linvel(v, true);
+            }
         }
+    }
+
+    /// The impacts on the heap, in time order, each bending the paths of
+    /// its two bodies and bringing their neighbours in.
+    fn resolve(
+        &mut self,
+        k: &mut Kimpact,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        narrow_phase: &NarrowPhase,
+        dt: Real,
+        rest_speed: Real,
+    ) {
         let max_events = k.config_ref().max_events_per_step;
         let mut events = 0usize;
         while let Some(e) = self.heap.pop() {
@@ -459,13 +661,13 @@ impl Replay {
                 );
                 break;
             }
-            let mass = |n: &Node, c: ColliderHandle| -> (Mass<Real>, Option<RigidBodyHandle>) {
+            let mass = |n: &Node, c: ColliderHandle| -> Mass<Real> {
                 let parent = colliders.get(c).and_then(|co| co.parent());
                 let lb = law_body(bodies, parent);
-                (if n.dynamic { lb.mass } else { Mass::Infinite }, parent)
+                if n.dynamic { lb.mass } else { Mass::Infinite }
             };
-            let (ma, rb1) = mass(&na, pair.c1);
-            let (mb, rb2) = mass(&nb, pair.c2);
+            let ma = mass(&na, pair.c1);
+            let mb = mass(&nb, pair.c2);
             let la = LawBody {
                 mass: ma,
                 velocity: na.u,
@@ -480,8 +682,6 @@ impl Replay {
                 normal: e.normal,
                 point: e.point,
                 dist: 0.0,
-                rb1,
-                rb2,
                 start1: la,
                 start2: lb,
             };
@@ -501,8 +701,13 @@ impl Replay {
                 if !node.dynamic {
                     continue;
                 }
-                node.p = node.at(e.t);
-                node.t_ref = e.t;
+                // After the step the path bends at the impact. Before it,
+                // rapier will move the body with its new velocity from the
+                // start of the step: predict along that line.
+                if self.phase == Phase::Post {
+                    node.p = node.at(e.t);
+                    node.t_ref = e.t;
+                }
                 let dv = from_law(&dv);
                 node.v += dv;
                 node.u += dv;
@@ -521,23 +726,8 @@ impl Replay {
             for n in [pair.a, pair.b] {
                 for j in 0..self.adjacency[n].len() {
                     let i = self.adjacency[n][j];
-                    self.predict(colliders, i, from, dt, false);
+                    self.predict(bodies, colliders, i, from, dt, false);
                 }
-            }
-        }
-        // Write back the bodies whose path the law bent.
-        for node in &self.nodes {
-            let (true, true, Key::Body(h)) = (node.dynamic, node.hit, node.key) else {
-                continue;
-            };
-            let Some(rb) = bodies.get_mut(h) else {
-                continue;
-            };
-            let x = node.at(dt);
-            let v = node.u;
-            if x.is_finite() && v.is_finite() {
-                rb.set_translation(x, true);
-                rb.set_linvel(v, true);
             }
         }
     }

@@ -5,7 +5,7 @@ use std::sync::Mutex;
 use kimpact::{Body, Law, LawError, LawParams, Mass};
 
 use crate::events::{ImpactEvent, Stats};
-use crate::math::{LawVector, Real, Vector, from_law, to_law};
+use crate::math::{Real, Vector, from_law, to_law};
 use crate::mode::Mode;
 use crate::rapier::prelude::*;
 use crate::replay::Replay;
@@ -50,10 +50,6 @@ pub(crate) struct Candidate {
     pub point: Vector,
     /// The smallest solver-contact distance at detection (negative: overlap).
     pub dist: Real,
-    /// The bodies of the two colliders.
-    pub rb1: Option<RigidBodyHandle>,
-    /// See `rb1`.
-    pub rb2: Option<RigidBodyHandle>,
     /// The bodies as the law saw them at detection (start of step).
     pub start1: LawBody,
     /// See `start1`.
@@ -80,6 +76,8 @@ struct HookState<'a> {
     rest_speed: Real,
     dt: Real,
     margin: Real,
+    /// `g dt`: what rapier adds to a dynamic body's velocity this step.
+    gravity_dt: Vector,
     candidates: &'a Mutex<Vec<Candidate>>,
     /// Pairs cut off by the runtime guard this step.
     guarded: &'a std::sync::atomic::AtomicU64,
@@ -194,8 +192,10 @@ impl PhysicsHooks for HookState<'_> {
         {
             return;
         }
-        let b1 = law_body(context.bodies, context.rigid_body1);
-        let b2 = law_body(context.bodies, context.rigid_body2);
+        let (bodies, colliders) = (context.bodies, context.colliders);
+        let (rb1, rb2) = (context.rigid_body1, context.rigid_body2);
+        let b1 = law_body(bodies, context.rigid_body1);
+        let b2 = law_body(bodies, context.rigid_body2);
         let Some(rigid) = context.rigid_mut() else {
             return;
         };
@@ -219,13 +219,6 @@ impl PhysicsHooks for HookState<'_> {
             .solver_contacts
             .iter()
             .all(|c| c.contact_id[0] & NEW_CONTACT_BIT != 0);
-        // Not an impact (resting, sliding, separating, or a contact rapier has
-        // been carrying): hand it to rapier with no bounce. A NaN approach
-        // fails the comparison and lands here too.
-        if !(fresh && approach > self.rest_speed && approach.is_finite()) {
-            *rigid.restitution = 0.0;
-            return;
-        }
         let (dist, point) = rigid
             .solver_contacts
             .iter()
@@ -234,17 +227,45 @@ impl PhysicsHooks for HookState<'_> {
                 (Real::MAX, Vector::ZERO),
                 |acc, x| if x.0 < acc.0 { x } else { acc },
             );
+        // rapier's speculative contact is linear: it takes a pair whose gap
+        // closes by more than the gap along the normal as meeting, even when
+        // the bodies' real paths pass each other (a graze), and bounces it
+        // ("ghost" collisions; in impulse mode these are the pairs the pass
+        // before the step found not meeting). Such a pair keeps no contact
+        // this step: it is apart now and does not meet on its path.
+        let reach = (approach + self.margin) * self.dt;
+        if self.mode != Mode::Exact
+            && approach > self.rest_speed
+            && dist > 0.0
+            && dist <= reach
+            && !self.meets(bodies, colliders, c1, c2, rb1, rb2)
+        {
+            rigid.solver_contacts.clear();
+            return;
+        }
+        // Not an impact (resting, sliding, separating, or a contact rapier has
+        // been carrying): hand it to rapier with no bounce. A NaN approach
+        // fails the comparison and lands here too.
+        if !(fresh && approach > self.rest_speed && approach.is_finite()) {
+            *rigid.restitution = 0.0;
+            return;
+        }
         match self.mode {
             Mode::Native => {}
-            Mode::Restitution => {
+            // Impulse mode resolved the impacts it could see coming before
+            // the step (those pairs now separate); a pair it could not see
+            // (inserted since the last step, or not yet in rapier's broad
+            // phase) gets the law through rapier's restitution instead.
+            Mode::Restitution | Mode::Impulse => {
                 let tangential = (w + n * approach).length();
                 match self.law.restitution(b1.mass, b2.mass, approach, tangential) {
                     Ok(Some(r)) => {
                         *rigid.restitution = r.coefficient;
-                        // Reported only when the bodies meet within the step
-                        // (a speculative contact further away gets no impulse
-                        // from rapier, and stays fresh for the next step).
-                        if dist <= (approach + self.margin) * self.dt {
+                        // Kept for the report if the bodies can meet within
+                        // the step; reported if rapier's contact then carried
+                        // an impulse (a speculative contact further away gets
+                        // none, and stays fresh for the next step).
+                        if dist <= reach * 1.01 + Real::EPSILON {
                             self.record(context, n, point, dist, b1, b2);
                         }
                     }
@@ -253,25 +274,59 @@ impl PhysicsHooks for HookState<'_> {
                     _ => *rigid.restitution = 0.0,
                 }
             }
-            Mode::Impulse | Mode::Exact => {
-                let reach = (approach + self.margin) * self.dt;
-                if self.mode == Mode::Exact || dist <= reach {
-                    // rapier leaves the pair alone this step; kimpact
-                    // resolves it after the step.
-                    rigid.solver_contacts.clear();
-                    self.record(context, n, point, dist, b1, b2);
-                } else {
-                    // Not meeting within this step: rapier's speculative
-                    // contact keeps them apart without an impulse, and the
-                    // contact stays fresh for the step where they meet.
-                    *rigid.restitution = 0.0;
-                }
+            Mode::Exact => {
+                // rapier leaves the pair alone this step; kimpact resolves it
+                // after the step.
+                rigid.solver_contacts.clear();
+                self.record(context, n, point, dist, b1, b2);
             }
         }
     }
 }
 
 impl HookState<'_> {
+    /// Whether colliders `c1` and `c2` meet within this step on the straight
+    /// paths rapier is about to integrate (velocity plus gravity), by parry's
+    /// linear shape cast (exact for balls).
+    #[allow(clippy::too_many_arguments)]
+    fn meets(
+        &self,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        c1: ColliderHandle,
+        c2: ColliderHandle,
+        rb1: Option<RigidBodyHandle>,
+        rb2: Option<RigidBodyHandle>,
+    ) -> bool {
+        let path = |h: Option<RigidBodyHandle>| match h.and_then(|h| bodies.get(h)) {
+            Some(rb) if rb.is_dynamic() => rb.linvel() + self.gravity_dt * rb.gravity_scale(),
+            Some(rb) => rb.linvel(),
+            None => Vector::ZERO,
+        };
+        let (Some(co1), Some(co2)) = (colliders.get(c1), colliders.get(c2)) else {
+            return true;
+        };
+        let options = crate::rapier::parry::query::ShapeCastOptions {
+            max_time_of_impact: self.dt * (1.0 + crate::replay::PRE_HORIZON),
+            target_distance: 0.0,
+            stop_at_penetration: true,
+            compute_impact_geometry_on_penetration: false,
+        };
+        // Anything but a clear "no" (an unsupported shape pair) is a meeting.
+        !matches!(
+            crate::rapier::parry::query::cast_shapes(
+                co1.position(),
+                path(rb1),
+                co1.shape(),
+                co2.position(),
+                path(rb2),
+                co2.shape(),
+                options,
+            ),
+            Ok(None)
+        )
+    }
+
     fn record(
         &self,
         context: &ContactModificationContext,
@@ -287,8 +342,6 @@ impl HookState<'_> {
             normal,
             point,
             dist,
-            rb1: context.rigid_body1,
-            rb2: context.rigid_body2,
             start1,
             start2,
         };
@@ -486,6 +539,30 @@ impl Kimpact {
         let g = gravity.length();
         let rest_speed = self.config.rest_speed.unwrap_or(2.0 * g * dt);
         self.prepare(bodies, colliders, rest_speed);
+        if matches!(self.mode, Mode::Impulse | Mode::Restitution) {
+            // Impulse: the law on every impact seen coming. Restitution: only
+            // on those of fast bodies, which rapier could let pass.
+            let mut replay = std::mem::take(&mut self.replay);
+            replay.run_pre(
+                self,
+                bodies,
+                colliders,
+                narrow_phase,
+                broad_phase,
+                gravity,
+                dt,
+                integration_parameters.prediction_distance(),
+                rest_speed,
+                self.mode == Mode::Impulse,
+            );
+            // Bodies set moving by an impact need the hook this step too.
+            for handle in replay.hit_bodies() {
+                if let Some(rb) = bodies.get(handle) {
+                    self.flag(rb, colliders);
+                }
+            }
+            self.replay = replay;
+        }
         {
             let state = HookState {
                 law: &self.law,
@@ -496,6 +573,7 @@ impl Kimpact {
                 rest_speed,
                 dt,
                 margin: g * dt,
+                gravity_dt: gravity * dt,
                 candidates: &self.candidates,
                 guarded: &self.guarded,
                 user: hooks,
@@ -526,8 +604,7 @@ impl Kimpact {
         self.collect_candidates();
         match self.mode {
             Mode::Native => {}
-            Mode::Restitution => self.report_restitution(),
-            Mode::Impulse => self.apply_impulses(bodies, dt),
+            Mode::Restitution | Mode::Impulse => self.report_restitution(narrow_phase),
             Mode::Exact => {
                 let mut replay = std::mem::take(&mut self.replay);
                 replay.run(
@@ -569,34 +646,11 @@ impl Kimpact {
                 continue;
             }
 
-            let mut any_marked = false;
-            let moving = rb.linvel().length() > threshold;
-            for &ch in rb.colliders() {
-                if !is_marked(&self.marked, ch) {
-                    continue;
-                }
-                any_marked = true;
-                if !moving {
-                    continue;
-                }
-                let Some(co) = colliders.get_mut(ch) else {
-                    continue;
-                };
-                if co
-                    .active_hooks()
-                    .contains(ActiveHooks::MODIFY_SOLVER_CONTACTS)
-                {
-                    continue; // the user's own flag: leave it, the hook runs anyway
-                }
-                co.set_active_hooks(co.active_hooks() | ActiveHooks::MODIFY_SOLVER_CONTACTS);
-                let (index, _) = ch.into_raw_parts();
-                let index = index as usize;
-                if self.ours.len() <= index {
-                    self.ours.resize(index + 1, false);
-                }
-                self.ours[index] = true;
-                self.flagged.push(ch);
-            }
+            let any_marked = if rb.linvel().length() > threshold {
+                self.flag(rb, colliders)
+            } else {
+                rb.colliders().iter().any(|&ch| is_marked(&self.marked, ch))
+            };
             if any_marked && self.mode == Mode::Exact {
                 let (index, generation) = handle.into_raw_parts();
                 let index = index as usize;
@@ -609,6 +663,36 @@ impl Kimpact {
                 };
             }
         }
+    }
+
+    /// Set the hook flag on the marked colliders of `rb` (leaving a flag the
+    /// user set alone); whether it has any marked collider.
+    fn flag(&mut self, rb: &RigidBody, colliders: &mut ColliderSet) -> bool {
+        let mut any_marked = false;
+        for &ch in rb.colliders() {
+            if !is_marked(&self.marked, ch) {
+                continue;
+            }
+            any_marked = true;
+            let Some(co) = colliders.get_mut(ch) else {
+                continue;
+            };
+            if co
+                .active_hooks()
+                .contains(ActiveHooks::MODIFY_SOLVER_CONTACTS)
+            {
+                continue; // ours already, or the user's own: the hook runs anyway
+            }
+            co.set_active_hooks(co.active_hooks() | ActiveHooks::MODIFY_SOLVER_CONTACTS);
+            let (index, _) = ch.into_raw_parts();
+            let index = index as usize;
+            if self.ours.len() <= index {
+                self.ours.resize(index + 1, false);
+            }
+            self.ours[index] = true;
+            self.flagged.push(ch);
+        }
+        any_marked
     }
 
     /// Move the hook's list into `sorted`, in a deterministic order (the hook
@@ -626,10 +710,21 @@ impl Kimpact {
     }
 
     /// Restitution mode: rapier's solver applied the law's restitution;
-    /// report the law's outcome for the velocities it saw at detection.
-    fn report_restitution(&mut self) {
+    /// report the law's outcome for the velocities it saw at detection, for
+    /// each pair whose contact carried an impulse this step.
+    fn report_restitution(&mut self, narrow_phase: &NarrowPhase) {
         for i in 0..self.sorted.len() {
             let c = self.sorted[i];
+            let bounced = narrow_phase
+                .contact_pair(c.collider1, c.collider2)
+                .is_some_and(|cp| {
+                    cp.manifolds()
+                        .iter()
+                        .any(|m| m.points.iter().any(|p| p.data.impulse > 0.0))
+                });
+            if !bounced {
+                continue;
+            }
             let (Ok(b1), Ok(b2)) = (checked(&c.start1), checked(&c.start2)) else {
                 self.skip(&c);
                 continue;
@@ -637,26 +732,6 @@ impl Kimpact {
             if let Some(impact) = self.law.resolve_unit(&b1, &b2, &to_law(c.normal)) {
                 self.push_event(&c, 0.0, c.point, &impact);
             }
-        }
-    }
-
-    /// Impulse mode: the law, pair by pair in a fixed order, on the
-    /// velocities rapier produced; positions moved as if each impact
-    /// happened at the start of the step.
-    fn apply_impulses(&mut self, bodies: &mut RigidBodySet, dt: Real) {
-        for i in 0..self.sorted.len() {
-            let c = self.sorted[i];
-            let (l1, l2) = (law_body(bodies, c.rb1), law_body(bodies, c.rb2));
-            let (Ok(b1), Ok(b2)) = (checked(&l1), checked(&l2)) else {
-                self.skip(&c);
-                continue;
-            };
-            let Some(impact) = self.law.resolve_unit(&b1, &b2, &to_law(c.normal)) else {
-                continue;
-            };
-            apply(bodies, c.rb1, &impact.delta_v_a, dt);
-            apply(bodies, c.rb2, &impact.delta_v_b, dt);
-            self.push_event(&c, 0.0, c.point, &impact);
         }
     }
 
@@ -725,20 +800,4 @@ impl Kimpact {
     pub(crate) fn count_cap_hit(&mut self) {
         self.stats.event_cap_hits += 1;
     }
-}
-
-/// Add `dv` to a dynamic body's velocity and `dv·dt` to its position (the
-/// impact counted from the start of the step), waking it.
-fn apply(bodies: &mut RigidBodySet, handle: Option<RigidBodyHandle>, dv: &LawVector, dt: Real) {
-    let Some(rb) = handle.and_then(|h| bodies.get_mut(h)) else {
-        return;
-    };
-    if !rb.is_dynamic() {
-        return;
-    }
-    let dv = from_law(dv);
-    let v = rb.linvel() + dv;
-    let x = rb.translation() + dv * dt;
-    rb.set_linvel(v, true);
-    rb.set_translation(x, true);
 }
