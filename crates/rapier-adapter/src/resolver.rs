@@ -380,6 +380,15 @@ pub struct Kimpact {
     ours: Vec<bool>,
     /// Colliders whose hook flag we set this step.
     flagged: Vec<ColliderHandle>,
+    /// Scratch of `prepare`: last step's `flagged`.
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    previous: Vec<ColliderHandle>,
+    /// Per collider index: the step (`epoch`) at which it was last flagged.
+    seen: Vec<u32>,
+    epoch: u32,
+    /// Colliders marked since the last step: their bodies may not be in
+    /// rapier's active set yet (inserted, or woken, since the last step).
+    pending: Vec<ColliderHandle>,
     #[cfg_attr(feature = "serde-serialize", serde(skip))]
     candidates: Mutex<Vec<Candidate>>,
     #[cfg_attr(feature = "serde-serialize", serde(skip))]
@@ -411,6 +420,10 @@ impl Kimpact {
             marked: Vec::new(),
             ours: Vec::new(),
             flagged: Vec::new(),
+            previous: Vec::new(),
+            seen: Vec::new(),
+            epoch: 0,
+            pending: Vec::new(),
             candidates: Mutex::new(Vec::new()),
             guarded: std::sync::atomic::AtomicU64::new(0),
             sorted: Vec::new(),
@@ -459,6 +472,7 @@ impl Kimpact {
             self.marked.resize(index + 1, 0);
         }
         self.marked[index] = generation.wrapping_add(1);
+        self.pending.push(collider);
     }
 
     /// Unmark `collider`: rapier's own response again from the next step.
@@ -538,7 +552,7 @@ impl Kimpact {
         let dt = integration_parameters.dt;
         let g = gravity.length();
         let rest_speed = self.config.rest_speed.unwrap_or(2.0 * g * dt);
-        self.prepare(bodies, colliders, rest_speed);
+        self.prepare(islands, bodies, colliders, rest_speed);
         if matches!(self.mode, Mode::Impulse | Mode::Restitution) {
             // Impulse: the law on every impact seen coming. Restitution: only
             // on those of fast bodies, which rapier could let pass.
@@ -622,46 +636,84 @@ impl Kimpact {
     }
 
     /// Set the hook flag on the marked colliders of moving, awake dynamic
-    /// bodies (only they can start an impact), clear it elsewhere, and, in
-    /// exact mode, store where those bodies start the step.
-    fn prepare(&mut self, bodies: &RigidBodySet, colliders: &mut ColliderSet, rest_speed: Real) {
-        for handle in self.flagged.drain(..) {
+    /// bodies (only they can start an impact), clear the flags we set on
+    /// others, and, in exact mode, store where those bodies start the step.
+    ///
+    /// Walks rapier's active (awake) bodies and the colliders marked since
+    /// the last step, never the whole set: a scene of resting bodies costs
+    /// nothing. Flags that stay are not touched (rapier treats a collider
+    /// borrowed mutably as modified).
+    fn prepare(
+        &mut self,
+        islands: &IslandManager,
+        bodies: &RigidBodySet,
+        colliders: &mut ColliderSet,
+        rest_speed: Real,
+    ) {
+        self.epoch = self.epoch.wrapping_add(1).max(1);
+        std::mem::swap(&mut self.previous, &mut self.flagged);
+        self.flagged.clear();
+        if self.mode != Mode::Native {
+            let threshold = 0.5 * rest_speed;
+            for handle in islands.active_bodies() {
+                self.prepare_body(handle, bodies, colliders, threshold);
+            }
+            let mut pending = std::mem::take(&mut self.pending);
+            for &ch in &pending {
+                if let Some(handle) = colliders.get(ch).and_then(|co| co.parent()) {
+                    self.prepare_body(handle, bodies, colliders, threshold);
+                }
+            }
+            pending.clear();
+            self.pending = pending;
+        } else {
+            self.pending.clear();
+        }
+        // Last step's flags not renewed: cleared.
+        for i in 0..self.previous.len() {
+            let handle = self.previous[i];
             let (index, _) = handle.into_raw_parts();
+            let index = index as usize;
+            if self.seen.get(index) == Some(&self.epoch) {
+                continue;
+            }
             if let Some(co) = colliders.get_mut(handle) {
                 co.set_active_hooks(co.active_hooks() - ActiveHooks::MODIFY_SOLVER_CONTACTS);
             }
-            if let Some(o) = self.ours.get_mut(index as usize) {
+            if let Some(o) = self.ours.get_mut(index) {
                 *o = false;
             }
         }
-        if self.mode == Mode::Native {
+        self.previous.clear();
+    }
+
+    /// `prepare` for one body.
+    fn prepare_body(
+        &mut self,
+        handle: RigidBodyHandle,
+        bodies: &RigidBodySet,
+        colliders: &mut ColliderSet,
+        threshold: Real,
+    ) {
+        let Some(rb) = bodies.get(handle) else { return };
+        if !rb.is_dynamic() || rb.is_sleeping() {
             return;
         }
-        let threshold = 0.5 * rest_speed;
-        // Every awake dynamic body, not just the island manager's active set:
-        // bodies inserted since the last step join that set only inside the
-        // next step, and their first impact must not slip through.
-        for (handle, rb) in bodies.iter() {
-            if !rb.is_dynamic() || rb.is_sleeping() {
-                continue;
+        let any_marked = if rb.linvel().length() > threshold {
+            self.flag(rb, colliders)
+        } else {
+            rb.colliders().iter().any(|&ch| is_marked(&self.marked, ch))
+        };
+        if any_marked && self.mode == Mode::Exact {
+            let (index, generation) = handle.into_raw_parts();
+            let index = index as usize;
+            if self.start.len() <= index {
+                self.start.resize(index + 1, Start::default());
             }
-
-            let any_marked = if rb.linvel().length() > threshold {
-                self.flag(rb, colliders)
-            } else {
-                rb.colliders().iter().any(|&ch| is_marked(&self.marked, ch))
+            self.start[index] = Start {
+                tag: generation.wrapping_add(1),
+                translation: rb.translation(),
             };
-            if any_marked && self.mode == Mode::Exact {
-                let (index, generation) = handle.into_raw_parts();
-                let index = index as usize;
-                if self.start.len() <= index {
-                    self.start.resize(index + 1, Start::default());
-                }
-                self.start[index] = Start {
-                    tag: generation.wrapping_add(1),
-                    translation: rb.translation(),
-                };
-            }
         }
     }
 
@@ -674,22 +726,37 @@ impl Kimpact {
                 continue;
             }
             any_marked = true;
-            let Some(co) = colliders.get_mut(ch) else {
+            let (index, _) = ch.into_raw_parts();
+            let index = index as usize;
+            if self.seen.len() <= index {
+                self.seen.resize(index + 1, 0);
+            }
+            if self.seen[index] == self.epoch {
+                continue; // flagged already this step
+            }
+            if self.ours.get(index).copied().unwrap_or(false) {
+                // Ours since last step: keep it, untouched.
+                self.seen[index] = self.epoch;
+                self.flagged.push(ch);
+                continue;
+            }
+            let Some(co) = colliders.get(ch) else {
                 continue;
             };
             if co
                 .active_hooks()
                 .contains(ActiveHooks::MODIFY_SOLVER_CONTACTS)
             {
-                continue; // ours already, or the user's own: the hook runs anyway
+                continue; // the user's own flag: the hook runs anyway
             }
-            co.set_active_hooks(co.active_hooks() | ActiveHooks::MODIFY_SOLVER_CONTACTS);
-            let (index, _) = ch.into_raw_parts();
-            let index = index as usize;
+            if let Some(co) = colliders.get_mut(ch) {
+                co.set_active_hooks(co.active_hooks() | ActiveHooks::MODIFY_SOLVER_CONTACTS);
+            }
             if self.ours.len() <= index {
                 self.ours.resize(index + 1, false);
             }
             self.ours[index] = true;
+            self.seen[index] = self.epoch;
             self.flagged.push(ch);
         }
         any_marked
@@ -704,8 +771,17 @@ impl Kimpact {
             let mut list = self.candidates.lock().unwrap_or_else(|e| e.into_inner());
             self.sorted.append(&mut list);
         }
-        self.sorted
-            .sort_by(|a, b| a.key().cmp(&b.key()).then(a.dist.total_cmp(&b.dist)));
+        // Unstable (no scratch allocation), with a total order on what can
+        // differ between duplicates, so the result never depends on the order
+        // the hook threads pushed in.
+        let bits = |v: Vector| v.to_array().map(|x| x.to_bits());
+        self.sorted.sort_unstable_by(|a, b| {
+            a.key()
+                .cmp(&b.key())
+                .then(a.dist.total_cmp(&b.dist))
+                .then_with(|| bits(a.normal).cmp(&bits(b.normal)))
+                .then_with(|| bits(a.point).cmp(&bits(b.point)))
+        });
         self.sorted.dedup_by_key(|c| c.key());
     }
 
