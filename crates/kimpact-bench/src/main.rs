@@ -125,7 +125,7 @@ pub enum ModeName {
     Native,
     /// The law's restitution written into rapier's manifolds.
     Restitution,
-    /// The law's velocity change after rapier's step.
+    /// The law's velocity changes of the step's impacts, before rapier's solver.
     Impulse,
     /// Time-ordered impacts at the analytic time of impact.
     Exact,

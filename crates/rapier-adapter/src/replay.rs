@@ -1,5 +1,6 @@
 //! Exact mode: the impacts of one step, resolved in time order at their
-//! analytic times of impact, after rapier's step.
+//! analytic times of impact, after rapier's step (and impulse mode's pass
+//! before it).
 //!
 //! rapier integrates positions with the velocity it solved, so within a step
 //! every body moves on a straight line from its start `x₀` to its end `x₁`,
@@ -16,9 +17,14 @@
 //! velocity when rapier's solver pushed a body apart from an overlap.
 //! At the end each body that took part gets `x = x(dt)` and
 //! `v = v_rapier + Σ Δv`.
+//!
+//! Impulse mode runs the same replay *before* rapier's step (`run_pre`):
+//! the lines are the ones rapier is about to integrate (`x₀ + (v + g dt) t`),
+//! a body's line after an impact restarts from `x₀` with its new velocity
+//! (that is how rapier will move it), and only velocities are written back.
 
 use std::cmp::Ordering;
-use std::collections::{BinaryHeap, HashMap, HashSet};
+use std::collections::BinaryHeap;
 
 use kimpact::Mass;
 
@@ -105,6 +111,18 @@ impl Ord for Entry {
 /// still taken in this step.
 pub(crate) const PRE_HORIZON: Real = 1e-3;
 
+/// Approach speeds below this times the sum of the two bodies' speeds are
+/// resting contacts: rounding level (7.6e-6 in f32, 1.4e-14 in f64).
+const REST_FLOOR: Real = 64.0 * Real::EPSILON;
+
+/// A body's or collider's node in the current run.
+#[derive(Copy, Clone, Debug, Default)]
+struct Slot {
+    /// The run that wrote it (0: never).
+    stamp: u32,
+    node: u32,
+}
+
 /// When the replay runs, relative to rapier's step.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
 enum Phase {
@@ -126,9 +144,14 @@ pub(crate) struct Replay {
     /// `g dt`: what rapier adds to a dynamic body's velocity this step.
     gravity_dt: Vector,
     nodes: Vec<Node>,
-    index: HashMap<Key, usize>,
+    /// Node of a body, by the body's index (valid when stamped this run):
+    /// dense arrays rather than hash maps (hashing was a fifth of a step).
+    body_slots: Vec<Slot>,
+    /// Node of a collider without a body, by the collider's index.
+    collider_slots: Vec<Slot>,
+    /// This run's stamp.
+    stamp: u32,
     pairs: Vec<Pair>,
-    pair_keys: HashSet<(ColliderHandle, ColliderHandle)>,
     /// For each node, the pairs it is in.
     adjacency: Vec<Vec<usize>>,
     heap: BinaryHeap<Entry>,
@@ -137,9 +160,14 @@ pub(crate) struct Replay {
 impl Replay {
     fn clear(&mut self) {
         self.nodes.clear();
-        self.index.clear();
+        self.stamp = self.stamp.wrapping_add(1);
+        if self.stamp == 0 {
+            // Wrapped: forget every old stamp.
+            self.body_slots.clear();
+            self.collider_slots.clear();
+            self.stamp = 1;
+        }
         self.pairs.clear();
-        self.pair_keys.clear();
         for a in &mut self.adjacency {
             a.clear();
         }
@@ -158,8 +186,15 @@ impl Replay {
             Some(h) => Key::Body(h),
             None => Key::Collider(collider),
         };
-        if let Some(&i) = self.index.get(&key) {
-            return i;
+        let (slots, index) = match key {
+            Key::Body(h) => (&mut self.body_slots, h.into_raw_parts().0 as usize),
+            Key::Collider(c) => (&mut self.collider_slots, c.into_raw_parts().0 as usize),
+        };
+        if slots.len() <= index {
+            slots.resize(index + 1, Slot::default());
+        }
+        if slots[index].stamp == self.stamp {
+            return slots[index].node as usize;
         }
         let rb = parent.and_then(|h| bodies.get(h));
         let node = match rb {
@@ -242,7 +277,14 @@ impl Replay {
         if self.adjacency.len() <= i {
             self.adjacency.push(Vec::new());
         }
-        self.index.insert(key, i);
+        let slot = Slot {
+            stamp: self.stamp,
+            node: i as u32,
+        };
+        match key {
+            Key::Body(h) => self.body_slots[h.into_raw_parts().0 as usize] = slot,
+            Key::Collider(c) => self.collider_slots[c.into_raw_parts().0 as usize] = slot,
+        }
         i
     }
 
@@ -255,14 +297,6 @@ impl Replay {
         c2: ColliderHandle,
         dt: Real,
     ) -> Option<usize> {
-        let key = if c1.into_raw_parts() <= c2.into_raw_parts() {
-            (c1, c2)
-        } else {
-            (c2, c1)
-        };
-        if !self.pair_keys.insert(key) {
-            return None;
-        }
         let p1 = colliders.get(c1)?.parent();
         let p2 = colliders.get(c2)?.parent();
         let a = self.node(k, bodies, c1, p1, dt);
@@ -270,11 +304,67 @@ impl Replay {
         if a == b {
             return None;
         }
+        // Already in (a node has a handful of pairs: a scan beats a set).
+        if self.adjacency[a].iter().any(|&i| {
+            let p = &self.pairs[i];
+            (p.c1 == c1 && p.c2 == c2) || (p.c1 == c2 && p.c2 == c1)
+        }) {
+            return None;
+        }
         let i = self.pairs.len();
         self.pairs.push(Pair { a, b, c1, c2 });
         self.adjacency[a].push(i);
         self.adjacency[b].push(i);
         Some(i)
+    }
+
+    /// Before the step, a cheap test that colliders `c1` and `c2` cannot
+    /// meet this step: their bounding spheres stay apart on the bodies'
+    /// current lines (the same test a node's later velocity change would
+    /// need is redone when the node's pairs are predicted again).
+    fn may_meet(
+        &self,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        c1: ColliderHandle,
+        c2: ColliderHandle,
+        dt: Real,
+    ) -> bool {
+        let sphere = |c: ColliderHandle| -> Option<(Vector, Vector, Real)> {
+            let co = colliders.get(c)?;
+            let local = co.shape().compute_local_bounding_sphere();
+            let r = local.center().length() + local.radius();
+            match co.parent().and_then(|h| bodies.get(h)) {
+                Some(rb) => {
+                    // A node's velocity is the one the law changed; else the body's.
+                    let v = match self.body_node(co.parent()) {
+                        Some(n) => self.nodes[n].v,
+                        None if rb.is_dynamic() => {
+                            rb.linvel() + self.gravity_dt * rb.gravity_scale()
+                        }
+                        None => rb.linvel(),
+                    };
+                    let offset = co
+                        .position_wrt_parent()
+                        .map_or(0.0, |p| p.translation.length());
+                    Some((rb.translation(), v, r + offset))
+                }
+                None => Some((co.position().translation, Vector::ZERO, r)),
+            }
+        };
+        let (Some((x1, v1, r1)), Some((x2, v2, r2))) = (sphere(c1), sphere(c2)) else {
+            return true;
+        };
+        let gap = (x2 - x1).length() - r1 - r2;
+        // Anything not finite is left to the exact test.
+        !(gap > (v2 - v1).length() * dt * (1.0 + 2.0 * PRE_HORIZON))
+    }
+
+    /// The node of body `h` in this run, if it has one.
+    fn body_node(&self, h: Option<RigidBodyHandle>) -> Option<usize> {
+        let h = h?;
+        let slot = self.body_slots.get(h.into_raw_parts().0 as usize)?;
+        (slot.stamp == self.stamp).then_some(slot.node as usize)
     }
 
     /// The pose of collider `c` of node `n` at time `t`. Taken from the
@@ -406,6 +496,8 @@ impl Replay {
                 // After the step, only the contacts rapier saw (touching
                 // neighbours); before it, every pair the broad phase keeps.
                 if (self.phase == Phase::Post && !cp.has_any_active_contact())
+                    || (self.phase == Phase::Pre
+                        && !self.may_meet(bodies, colliders, cp.collider1, cp.collider2, dt))
                     || !governs(
                         k.marked_ref(),
                         config.fixed_partners,
@@ -432,11 +524,13 @@ impl Replay {
     /// the replay.
     ///
     /// `reach` (before the step, impulse mode): also sweep every body moving
-    /// more than this per step, with the box grown by `grow`. rapier's
-    /// narrow phase lists a pair one step after its broad phase saw it, and
-    /// its broad-phase boxes are grown by half the prediction distance: a pair
-    /// closing faster than that per step can meet before it is listed.
-    #[allow(clippy::too_many_arguments)]
+    /// more than this per step. rapier's narrow phase lists a pair one step
+    /// after its broad phase saw it, and its broad-phase boxes are grown by
+    /// half the prediction distance: a pair closing faster than that per
+    /// step can meet before it is listed. Such a sweep's box is grown by
+    /// twice the body's own step (a partner's box in the broad phase is up to
+    /// a step old, and the partner moves during this one): enough for every
+    /// slower partner; a faster one finds the pair from its own sweep.
     fn sweep_fast_bodies(
         &mut self,
         k: &Kimpact,
@@ -445,7 +539,6 @@ impl Replay {
         broad_phase: &BroadPhaseBvh,
         dt: Real,
         reach: Real,
-        grow: Real,
     ) {
         let config = k.config_ref();
         for &ch in k.flagged_ref() {
@@ -464,6 +557,11 @@ impl Replay {
             if !fast && moved.length() <= reach {
                 continue;
             }
+            let grow = if reach.is_finite() {
+                2.0 * moved.length()
+            } else {
+                0.0
+            };
             let (Some(start), Some(end)) = (
                 self.pose(bodies, colliders, n, ch, 0.0),
                 self.pose(bodies, colliders, n, ch, dt),
@@ -543,7 +641,8 @@ impl Replay {
                     bodies,
                     cp.collider1,
                     cp.collider2,
-                ) {
+                ) || !self.may_meet(bodies, colliders, cp.collider1, cp.collider2, dt)
+                {
                     continue;
                 }
                 if let Some(i) = self.add_pair(k, bodies, colliders, cp.collider1, cp.collider2, dt)
@@ -553,25 +652,13 @@ impl Replay {
             }
         }
         // Before the step: every moving body that could meet a partner the
-        // narrow phase does not list yet (see `sweep_fast_bodies`), the box
-        // grown by how far any partner moved since rapier's broad phase.
-        let (reach, grow) = if narrow {
-            let mut fastest: Real = 0.0;
-            for &ch in k.flagged_ref() {
-                if let Some(rb) = colliders
-                    .get(ch)
-                    .and_then(|co| co.parent())
-                    .and_then(|h| bodies.get(h))
-                {
-                    fastest =
-                        fastest.max((rb.linvel() + self.gravity_dt * rb.gravity_scale()).length());
-                }
-            }
-            (0.25 * prediction, 2.0 * fastest * dt)
+        // narrow phase does not list yet (see `sweep_fast_bodies`).
+        let reach = if narrow {
+            0.25 * prediction
         } else {
-            (Real::INFINITY, 0.0)
+            Real::INFINITY
         };
-        self.sweep_fast_bodies(k, bodies, colliders, broad_phase, dt, reach, grow);
+        self.sweep_fast_bodies(k, bodies, colliders, broad_phase, dt, reach);
         self.resolve(k, bodies, colliders, narrow_phase, dt, rest_speed);
         for node in &self.nodes {
             let (true, true, Key::Body(h)) = (node.dynamic, node.hit, node.key) else {
@@ -616,7 +703,7 @@ impl Replay {
                 self.predict(bodies, colliders, i, 0.0, dt, true);
             }
         }
-        self.sweep_fast_bodies(k, bodies, colliders, broad_phase, dt, Real::INFINITY, 0.0);
+        self.sweep_fast_bodies(k, bodies, colliders, broad_phase, dt, Real::INFINITY);
         self.resolve(k, bodies, colliders, narrow_phase, dt, rest_speed);
         // Write back the bodies whose path the law bent.
         for node in &self.nodes {
@@ -692,8 +779,14 @@ impl Replay {
             let Some(impact) = k.law_ref().resolve_unit(&ba, &bb, &to_law(e.normal)) else {
                 continue;
             };
-            if impact.approach_speed <= rest_speed {
-                continue; // a resting contact: rapier's
+            // A resting contact (rapier's), or an approach at rounding level
+            // relative to the bodies' speeds: without gravity the rest speed
+            // is 0, and a dissipative law (grazing impacts are clamped to
+            // e = 1e-3) would otherwise chase an inelastic collapse, three
+            // touching balls exchanging ever smaller impulses forever.
+            let floor = REST_FLOOR * (na.u.length() + nb.u.length());
+            if impact.approach_speed <= rest_speed.max(floor) {
+                continue;
             }
             events += 1;
             for (n, dv) in [(pair.a, impact.delta_v_a), (pair.b, impact.delta_v_b)] {
