@@ -356,8 +356,9 @@ impl Replay {
             return true;
         };
         let gap = (x2 - x1).length() - r1 - r2;
-        // Anything not finite is left to the exact test.
-        !(gap > (v2 - v1).length() * dt * (1.0 + 2.0 * PRE_HORIZON))
+        // Anything not finite (NaN) is left to the exact test.
+        let reach = (v2 - v1).length() * dt * (1.0 + 2.0 * PRE_HORIZON);
+        gap.partial_cmp(&reach) != Some(Ordering::Greater)
     }
 
     /// The node of body `h` in this run, if it has one.
