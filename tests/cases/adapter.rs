@@ -458,3 +458,46 @@ fn each_law_impact_is_one_kimpact_event() {
         );
     }
 }
+
+/// A row of sleeping balls with gaps, hit by a moving one: each woken ball
+/// must carry the impact on to the next, in every law mode, ending with the
+/// last ball at the incoming velocity (elastic, equal masses). A ball woken
+/// by kimpact joins rapier's active set only inside the next step, so its
+/// first free flight must not be lost.
+#[test]
+fn woken_balls_pass_the_impact_on() {
+    for mode in [Mode::Restitution, Mode::Impulse, Mode::Exact] {
+        let mut w = TestWorld::new(mode, 0.0, Vector::ZERO);
+        let (a, _) = w.ball(Vector::X * -1.5, Vector::X * 3.0, 0.5, 1.0);
+        let mut row = Vec::new();
+        for i in 0..3 {
+            let body = RigidBodyBuilder::dynamic()
+                .translation(Vector::X * (1.03 * i as Real))
+                .sleeping(true);
+            // rapier's own coefficient 0: only the law can make these bounce.
+            let collider = ColliderBuilder::ball(0.5)
+                .mass(1.0)
+                .friction(0.0)
+                .restitution(0.0);
+            let (b, c) = w.world.insert(body, collider);
+            w.kimpact.mark(c);
+            row.push(b);
+        }
+        for _ in 0..60 {
+            w.step();
+        }
+        let last = *row.last().unwrap();
+        let err = rel_err(w.vel(last), Vector::X * 3.0);
+        let rest = std::iter::once(a)
+            .chain(row[..2].iter().copied())
+            .map(|b| f64::from(w.vel(b).length()) / 3.0)
+            .fold(0.0, f64::max);
+        eprintln!("{mode}: last ball error {err:.2e}, others up to {rest:.2e}");
+        assert!(
+            err < tol() && rest < tol(),
+            "{mode}: {:?} {:?}",
+            w.vel(last),
+            row.iter().map(|&b| w.vel(b)).collect::<Vec<_>>()
+        );
+    }
+}

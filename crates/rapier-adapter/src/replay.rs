@@ -669,6 +669,7 @@ impl Replay {
                 && node.u.is_finite()
             {
                 rb.set_linvel(node.u, true);
+                k.woke(h);
             }
         }
     }
@@ -719,6 +720,7 @@ impl Replay {
             if x.is_finite() && v.is_finite() {
                 rb.set_translation(x, true);
                 rb.set_linvel(v, true);
+                k.woke(h);
             }
         }
     }

@@ -389,6 +389,8 @@ pub struct Kimpact {
     /// Colliders marked since the last step: their bodies may not be in
     /// rapier's active set yet (inserted, or woken, since the last step).
     pending: Vec<ColliderHandle>,
+    /// Bodies kimpact gave a new velocity since the last `prepare`.
+    woken: Vec<RigidBodyHandle>,
     #[cfg_attr(feature = "serde-serialize", serde(skip))]
     candidates: Mutex<Vec<Candidate>>,
     #[cfg_attr(feature = "serde-serialize", serde(skip))]
@@ -424,6 +426,7 @@ impl Kimpact {
             seen: Vec::new(),
             epoch: 0,
             pending: Vec::new(),
+            woken: Vec::new(),
             candidates: Mutex::new(Vec::new()),
             guarded: std::sync::atomic::AtomicU64::new(0),
             sorted: Vec::new(),
@@ -639,9 +642,11 @@ impl Kimpact {
     /// bodies (only they can start an impact), clear the flags we set on
     /// others, and, in exact mode, store where those bodies start the step.
     ///
-    /// Walks rapier's active (awake) bodies and the colliders marked since
-    /// the last step, never the whole set: a scene of resting bodies costs
-    /// nothing. Flags that stay are not touched (rapier treats a collider
+    /// Walks rapier's active (awake) bodies, the colliders marked since the
+    /// last step and the bodies kimpact woke (rapier adds those to its active
+    /// set only inside the next step), never the whole set: a scene of
+    /// resting bodies costs nothing. (A sleeping body the user wakes between
+    /// steps joins one step later, when rapier has made it active.) Flags that stay are not touched (rapier treats a collider
     /// borrowed mutably as modified).
     fn prepare(
         &mut self,
@@ -666,8 +671,15 @@ impl Kimpact {
             }
             pending.clear();
             self.pending = pending;
+            let mut woken = std::mem::take(&mut self.woken);
+            for &handle in &woken {
+                self.prepare_body(handle, bodies, colliders, threshold);
+            }
+            woken.clear();
+            self.woken = woken;
         } else {
             self.pending.clear();
+            self.woken.clear();
         }
         // Last step's flags not renewed: cleared.
         for i in 0..self.previous.len() {
@@ -871,6 +883,13 @@ impl Kimpact {
             .get(index as usize)
             .filter(|s| s.tag == generation.wrapping_add(1))
             .map(|s| s.translation)
+    }
+
+    /// Body `h` was given a new velocity (and woken): rapier adds a woken
+    /// body to its active set only inside the next step, so `prepare` looks
+    /// at it then.
+    pub(crate) fn woke(&mut self, h: RigidBodyHandle) {
+        self.woken.push(h);
     }
 
     pub(crate) fn count_cap_hit(&mut self) {
