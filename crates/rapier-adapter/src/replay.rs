@@ -143,6 +143,8 @@ pub(crate) struct Replay {
     phase: Phase,
     /// `g dt`: what rapier adds to a dynamic body's velocity this step.
     gravity_dt: Vector,
+    /// The rest speed of this run.
+    rest_speed: Real,
     nodes: Vec<Node>,
     /// Node of a body, by the body's index (valid when stamped this run):
     /// dense arrays rather than hash maps (hashing was a fifth of a step).
@@ -319,9 +321,10 @@ impl Replay {
     }
 
     /// Before the step, a cheap test that colliders `c1` and `c2` cannot
-    /// meet this step: their bounding spheres stay apart on the bodies'
-    /// current lines (the same test a node's later velocity change would
-    /// need is redone when the node's pairs are predicted again).
+    /// have an impact this step: their velocities differ by no more than the
+    /// rest speed (the law would leave them to rapier), or their bounding
+    /// spheres stay apart on the bodies' current lines. A node whose velocity
+    /// the law changes later has its pairs tested again then.
     fn may_meet(
         &self,
         bodies: &RigidBodySet,
@@ -330,33 +333,38 @@ impl Replay {
         c2: ColliderHandle,
         dt: Real,
     ) -> bool {
-        let sphere = |c: ColliderHandle| -> Option<(Vector, Vector, Real)> {
+        // (centre, path velocity, the law's velocity, bounding radius)
+        let sphere = |c: ColliderHandle| -> Option<(Vector, Vector, Vector, Real)> {
             let co = colliders.get(c)?;
             let local = co.shape().compute_local_bounding_sphere();
             let r = local.center().length() + local.radius();
             match co.parent().and_then(|h| bodies.get(h)) {
                 Some(rb) => {
-                    // A node's velocity is the one the law changed; else the body's.
-                    let v = match self.body_node(co.parent()) {
-                        Some(n) => self.nodes[n].v,
-                        None if rb.is_dynamic() => {
-                            rb.linvel() + self.gravity_dt * rb.gravity_scale()
-                        }
-                        None => rb.linvel(),
+                    // A node's velocities are the ones the law changed.
+                    let (v, u) = match self.body_node(co.parent()) {
+                        Some(n) => (self.nodes[n].v, self.nodes[n].u),
+                        None if rb.is_dynamic() => (
+                            rb.linvel() + self.gravity_dt * rb.gravity_scale(),
+                            rb.linvel(),
+                        ),
+                        None => (rb.linvel(), rb.linvel()),
                     };
                     let offset = co
                         .position_wrt_parent()
                         .map_or(0.0, |p| p.translation.length());
-                    Some((rb.translation(), v, r + offset))
+                    Some((rb.translation(), v, u, r + offset))
                 }
-                None => Some((co.position().translation, Vector::ZERO, r)),
+                None => Some((co.position().translation, Vector::ZERO, Vector::ZERO, r)),
             }
         };
-        let (Some((x1, v1, r1)), Some((x2, v2, r2))) = (sphere(c1), sphere(c2)) else {
+        let (Some((x1, v1, u1, r1)), Some((x2, v2, u2, r2))) = (sphere(c1), sphere(c2)) else {
             return true;
         };
-        let gap = (x2 - x1).length() - r1 - r2;
         // Anything not finite (NaN) is left to the exact test.
+        if (u2 - u1).length().partial_cmp(&self.rest_speed) != Some(Ordering::Greater) {
+            return (u2 - u1).length().is_nan();
+        }
+        let gap = (x2 - x1).length() - r1 - r2;
         let reach = (v2 - v1).length() * dt * (1.0 + 2.0 * PRE_HORIZON);
         gap.partial_cmp(&reach) != Some(Ordering::Greater)
     }
@@ -524,14 +532,10 @@ impl Replay {
     /// path over the step and bring every governed collider it meets into
     /// the replay.
     ///
-    /// `reach` (before the step, impulse mode): also sweep every body moving
-    /// more than this per step. rapier's narrow phase lists a pair one step
-    /// after its broad phase saw it, and its broad-phase boxes are grown by
-    /// half the prediction distance: a pair closing faster than that per
-    /// step can meet before it is listed. Such a sweep's box is grown by
-    /// twice the body's own step (a partner's box in the broad phase is up to
-    /// a step old, and the partner moves during this one): enough for every
-    /// slower partner; a faster one finds the pair from its own sweep.
+    /// Before the step, the box is grown by twice the body's own step: a
+    /// partner's box in rapier's broad phase is up to a step old, and the
+    /// partner moves during this one (enough for every slower partner; a
+    /// faster one finds the pair from its own sweep).
     fn sweep_fast_bodies(
         &mut self,
         k: &Kimpact,
@@ -539,7 +543,6 @@ impl Replay {
         colliders: &ColliderSet,
         broad_phase: &BroadPhaseBvh,
         dt: Real,
-        reach: Real,
     ) {
         let config = k.config_ref();
         for &ch in k.flagged_ref() {
@@ -554,14 +557,12 @@ impl Replay {
             let moved = self.nodes[n].v * dt;
             let aabb = co.compute_aabb();
             let half = 0.5 * (aabb.maxs - aabb.mins).min_element();
-            let fast = moved.length() > half;
-            if !fast && moved.length() <= reach {
+            if moved.length() <= half {
                 continue;
             }
-            let grow = if reach.is_finite() {
-                2.0 * moved.length()
-            } else {
-                0.0
+            let grow = match self.phase {
+                Phase::Pre => 2.0 * moved.length(),
+                Phase::Post => 0.0,
             };
             let (Some(start), Some(end)) = (
                 self.pose(bodies, colliders, n, ch, 0.0),
@@ -620,12 +621,12 @@ impl Replay {
         broad_phase: &BroadPhaseBvh,
         gravity: Vector,
         dt: Real,
-        prediction: Real,
         rest_speed: Real,
         narrow: bool,
     ) {
         self.clear();
         self.phase = Phase::Pre;
+        self.rest_speed = rest_speed;
         self.gravity_dt = gravity * dt;
         if dt.is_nan() || dt <= 0.0 {
             return;
@@ -652,14 +653,7 @@ impl Replay {
                 }
             }
         }
-        // Before the step: every moving body that could meet a partner the
-        // narrow phase does not list yet (see `sweep_fast_bodies`).
-        let reach = if narrow {
-            0.25 * prediction
-        } else {
-            Real::INFINITY
-        };
-        self.sweep_fast_bodies(k, bodies, colliders, broad_phase, dt, reach);
+        self.sweep_fast_bodies(k, bodies, colliders, broad_phase, dt);
         self.resolve(k, bodies, colliders, narrow_phase, dt, rest_speed);
         for node in &self.nodes {
             let (true, true, Key::Body(h)) = (node.dynamic, node.hit, node.key) else {
@@ -705,7 +699,7 @@ impl Replay {
                 self.predict(bodies, colliders, i, 0.0, dt, true);
             }
         }
-        self.sweep_fast_bodies(k, bodies, colliders, broad_phase, dt, Real::INFINITY);
+        self.sweep_fast_bodies(k, bodies, colliders, broad_phase, dt);
         self.resolve(k, bodies, colliders, narrow_phase, dt, rest_speed);
         // Write back the bodies whose path the law bent.
         for node in &self.nodes {

@@ -568,7 +568,6 @@ impl Kimpact {
                 broad_phase,
                 gravity,
                 dt,
-                integration_parameters.prediction_distance(),
                 rest_speed,
                 self.mode == Mode::Impulse,
             );
