@@ -57,6 +57,9 @@ struct Node {
     /// the bodies really have.
     u: Vector,
     t_ref: Real,
+    /// What gravity adds to the body's velocity over the step (`g s dt`,
+    /// with its gravity scale `s`; zero for non-dynamic bodies).
+    g_dt: Vector,
     version: u32,
     expanded: bool,
     hit: bool,
@@ -211,6 +214,7 @@ impl Replay {
                     v: u + self.gravity_dt * rb.gravity_scale(),
                     u,
                     t_ref: 0.0,
+                    g_dt: self.gravity_dt * rb.gravity_scale(),
                     version: 0,
                     expanded: false,
                     hit: false,
@@ -238,6 +242,7 @@ impl Replay {
                     v: v_bar,
                     u: v1,
                     t_ref: 0.0,
+                    g_dt: self.gravity_dt * rb.gravity_scale(),
                     version: 0,
                     expanded: false,
                     hit: false,
@@ -256,6 +261,7 @@ impl Replay {
                     // Where the body is now: the end of the step after
                     // rapier's step, its start before it.
                     t_ref: if self.phase == Phase::Pre { 0.0 } else { dt },
+                    g_dt: Vector::ZERO,
                     version: 0,
                     expanded: true,
                     hit: false,
@@ -269,6 +275,7 @@ impl Replay {
                 v: Vector::ZERO,
                 u: Vector::ZERO,
                 t_ref: dt,
+                g_dt: Vector::ZERO,
                 version: 0,
                 expanded: true,
                 hit: false,
@@ -685,11 +692,13 @@ impl Replay {
         colliders: &ColliderSet,
         narrow_phase: &NarrowPhase,
         broad_phase: &BroadPhaseBvh,
+        gravity: Vector,
         dt: Real,
         rest_speed: Real,
     ) {
         self.clear();
         self.phase = Phase::Post;
+        self.gravity_dt = gravity * dt;
         if dt.is_nan() || dt <= 0.0 {
             return;
         }
@@ -752,13 +761,22 @@ impl Replay {
             };
             let ma = mass(&na, pair.c1);
             let mb = mass(&nb, pair.c2);
+            // After the step, `u` is the velocity at its end: the law meets
+            // the bodies at `t`, before gravity's share of the rest of the
+            // step (which they keep afterwards). Against a fixed partner this
+            // is what keeps a bouncing ball from gaining `m g dt` of
+            // momentum, and energy, at every bounce.
+            let at = |n: &Node| match self.phase {
+                Phase::Post => n.u - n.g_dt * ((dt - e.t) / dt),
+                Phase::Pre => n.u,
+            };
             let la = LawBody {
                 mass: ma,
-                velocity: na.u,
+                velocity: at(&na),
             };
             let lb = LawBody {
                 mass: mb,
-                velocity: nb.u,
+                velocity: at(&nb),
             };
             let candidate = Candidate {
                 collider1: pair.c1,

@@ -629,6 +629,7 @@ impl Kimpact {
                     colliders,
                     narrow_phase,
                     broad_phase,
+                    gravity,
                     dt,
                     rest_speed,
                 );
