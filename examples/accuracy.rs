@@ -419,8 +419,8 @@ macro_rules! rapier_backend {
                                 match wall {
                                     Some(&(axis, side)) => {
                                         self.totals.wall_impacts += 1;
-                                        // Restitution: rapier's solver applied it (counted above).
-                                        if self.method != Method::Restitution {
+                                        // rapier's solver applied it: counted above.
+                                        if !e.by_solver {
                                             impulse[axis][side] += f64::from(e.impulse).abs();
                                         }
                                     }

@@ -451,6 +451,7 @@ fn each_law_impact_is_one_kimpact_event() {
         let pair = [e.collider1, e.collider2];
         assert!(pair.contains(&ca) && pair.contains(&cb), "{mode}: {e:?}");
         assert!(e.impulse > 0.0 && e.dissipated > 0.0, "{mode}: {e:?}");
+        assert_eq!(e.by_solver, mode == Mode::Restitution, "{mode}: {e:?}");
         // rapier's own events keep arriving for the marked pair.
         assert!(
             rapier.iter().any(|e| e.started()) && rapier.iter().any(|e| e.stopped()),

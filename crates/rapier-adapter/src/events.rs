@@ -16,11 +16,16 @@ pub struct ImpactEvent {
     pub collider1: ColliderHandle,
     /// The second collider (the normal points towards it).
     pub collider2: ColliderHandle,
-    /// Time of the impact relative to the start of the step, in seconds:
-    /// `0` in the `Restitution` and `Impulse` modes; in `Exact`, in
-    /// `[−dt, dt]`, negative for a pair first seen overlapping whose impact
-    /// was rewound into the previous step.
+    /// Time of the impact relative to the start of the step, in seconds, in
+    /// `[−dt, dt]` (negative for a pair first seen overlapping whose impact
+    /// was rewound into the previous step); `0` when rapier's solver applied
+    /// it (see `by_solver`).
     pub time: Real,
+    /// `true` when rapier's solver applied the law's restitution for this
+    /// impact (`Restitution` mode, and `Impulse` mode for a pair its pass
+    /// before the step could not see): rapier's contact impulses include it.
+    /// `false` when kimpact changed the velocities itself.
+    pub by_solver: bool,
     /// The contact point (world space) at the impact.
     pub point: Vector,
     /// The unit normal from `collider1` towards `collider2`.

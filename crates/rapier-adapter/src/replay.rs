@@ -822,7 +822,7 @@ impl Replay {
                 node.version += 1;
                 node.hit = true;
             }
-            k.push_event(&candidate, e.t, e.point, &impact);
+            k.push_event(&candidate, e.t, e.point, &impact, false);
             // Chains: neighbours of both bodies, then fresh predictions for
             // every pair of the two bodies from now on.
             let from = e.t.max(0.0);

@@ -818,7 +818,7 @@ impl Kimpact {
                 continue;
             };
             if let Some(impact) = self.law.resolve_unit(&b1, &b2, &to_law(c.normal)) {
-                self.push_event(&c, 0.0, c.point, &impact);
+                self.push_event(&c, 0.0, c.point, &impact, true);
             }
         }
     }
@@ -839,6 +839,7 @@ impl Kimpact {
         time: Real,
         point: Vector,
         impact: &kimpact::Impact<Real, { crate::math::DIM }>,
+        by_solver: bool,
     ) {
         self.stats.impacts += 1;
         self.stats.clamped += u64::from(impact.clamped);
@@ -847,6 +848,7 @@ impl Kimpact {
             collider1: c.collider1,
             collider2: c.collider2,
             time,
+            by_solver,
             point,
             normal: from_law(&impact.normal),
             impulse: impact.impulse,
