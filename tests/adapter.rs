@@ -28,6 +28,7 @@ mod d2_f64 {
         include!("cases/world.rs");
     }
     include!("cases/adapter.rs");
+    include!("cases/soak.rs");
     include!("cases/long.rs");
 
     #[test]
@@ -43,6 +44,7 @@ mod d3_f64 {
         include!("cases/world.rs");
     }
     include!("cases/adapter.rs");
+    include!("cases/soak.rs");
     include!("cases/long.rs");
 
     #[test]

@@ -1,64 +1,11 @@
-// Long f64 runs: the elastic gas in a closed box and the ball pit.
-
-/// A deterministic generator for positions and velocities.
-struct Lcg(u64);
-impl Lcg {
-    fn next(&mut self) -> Real {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((self.0 >> 11) as f64 / (1u64 << 53) as f64) as Real
-    }
-}
-
-/// `n` balls of radius `r` on a grid inside a box of inner half-size `half`.
-fn fill(
-    w: &mut TestWorld,
-    n: usize,
-    r: Real,
-    half: Real,
-    speed: Real,
-    masses: &[Real],
-) -> Vec<RigidBodyHandle> {
-    let mut rng = Lcg(42);
-    let per_side = ((n as f64).powf(1.0 / DIM as f64).ceil()) as usize;
-    let spacing = 2.0 * half / per_side as Real;
-    assert!(spacing > 2.0 * r, "the grid must not overlap");
-    let mut out = Vec::new();
-    let mut i = 0usize;
-    while out.len() < n {
-        let mut p = Vector::ZERO;
-        let mut rest = i;
-        for axis in 0..DIM {
-            p[axis] = -half + spacing * (0.5 + (rest % per_side) as Real);
-            rest /= per_side;
-        }
-        let mut v = Vector::ZERO;
-        for axis in 0..DIM {
-            v[axis] = speed * (2.0 * rng.next() - 1.0);
-        }
-        let m = masses[out.len() % masses.len()];
-        out.push(w.ball(p, v, r, m).0);
-        i += 1;
-    }
-    out
-}
-
-fn inside(w: &TestWorld, balls: &[RigidBodyHandle], half: Real) -> bool {
-    balls.iter().all(|&b| {
-        let p = w.pos(b);
-        p.is_finite() && (0..DIM).all(|a| p[a].abs() <= half)
-    })
-}
+// Long f64 runs: the elastic gas in a closed box and the ball pit. The
+// scenes and their helpers (`gas_world`, `pit_world`, `fill`, `inside`) are
+// in `soak.rs`, shared with the soak command (`examples/soak.rs`).
 
 /// 500 elastic balls in a closed box, no gravity, 10,000 steps.
 fn gas(mode: Mode, steps: usize) -> (f64, f64, bool) {
-    let mut w = TestWorld::new(mode, 0.0, Vector::ZERO);
-    let r = 0.5;
     let half = if DIM == 2 { 22.0 } else { 7.0 };
-    w.closed_box(half, 1.0);
-    let balls = fill(&mut w, 500, r, half, 3.0, &[1.0]);
+    let (mut w, balls) = gas_world(mode, 500, half);
     let e0 = w.kinetic();
     for _ in 0..steps {
         w.step();
@@ -86,11 +33,8 @@ fn exact_gas_check() {
 
 /// 1,000 balls of mixed masses dropped into an open box under gravity.
 fn pit(mode: Mode, steps: usize) -> (f64, f64, bool) {
-    let mut w = TestWorld::new(mode, 0.01, -Vector::Y * 9.81);
-    let r = 0.25;
     let half = if DIM == 2 { 12.0 } else { 4.0 };
-    w.closed_box(half, 1.0);
-    let balls = fill(&mut w, 1000, r, half, 1.0, &[1.0, 2.0, 0.5]);
+    let (mut w, balls) = pit_world(mode, 1000, half);
     let total = |w: &TestWorld| w.kinetic() + w.potential();
     let e0 = total(&w);
     let mut max_rise: f64 = 0.0;

@@ -500,6 +500,9 @@ pub fn parse(text: &str, format: &str) -> Result<SceneFile, SceneError> {
         let s = p.to_string();
         if s == "." { String::new() } else { s }
     };
+    // serde_json reports column 0 for an error at the start of a line
+    // (the end of an empty file): locations are 1-based.
+    let json_location = |line: usize, column: usize| Some((line, column.max(1)));
     match format {
         "json" => {
             let mut de = serde_json::Deserializer::from_str(text);
@@ -508,11 +511,11 @@ pub fn parse(text: &str, format: &str) -> Result<SceneFile, SceneError> {
                 let field = field_of(e.path());
                 let inner = e.into_inner();
                 let msg = strip_location(&inner.to_string());
-                make(Some((inner.line(), inner.column())), field, msg)
+                make(json_location(inner.line(), inner.column()), field, msg)
             })?;
             de.end().map_err(|e| {
                 make(
-                    Some((e.line(), e.column())),
+                    json_location(e.line(), e.column()),
                     String::new(),
                     strip_location(&e.to_string()),
                 )
@@ -888,6 +891,26 @@ impl Checker<'_> {
                     *v += speed * d;
                 }
             }
+            // Finite inputs can still overflow here (found by fuzzing): a
+            // generated body's vectors must be finite like written ones.
+            if let Some(k) = b.position.iter().position(|x| !x.is_finite()) {
+                return self.err(
+                    &f("spacing"),
+                    format!(
+                        "{} would be at position[{k}] = {}: origin + spacing x index overflows",
+                        b.origin, b.position[k]
+                    ),
+                );
+            }
+            if let Some(k) = b.velocity.iter().position(|x| !x.is_finite()) {
+                return self.err(
+                    &f("speed"),
+                    format!(
+                        "{} would move at velocity[{k}] = {}: the template's velocity + speed overflows",
+                        b.origin, b.velocity[k]
+                    ),
+                );
+            }
             out.push(b);
             for k in 0..self.dim {
                 index[k] += 1;
@@ -1228,22 +1251,58 @@ fn depth(a: &Body, b: &Body) -> f64 {
 /// apart by rapier's penetration correction, an explosion of energy that no
 /// law is responsible for). Touching is fine: the tolerance is 1e-4 of the
 /// smaller body's size.
+///
+/// Sweep and prune: the bounding boxes are computed once and stored in sweep
+/// order, the sweep runs along the axis where the centres spread most, and
+/// boxes are compared on every axis before the exact depth. (Sweeping along
+/// x with the boxes recomputed per pair, as before, took 12 s for a valid
+/// 20,000-body column and timed out the fuzzer on an 8,690-body pit.)
 fn check_overlaps(c: &Checker<'_>, bodies: &[Body]) -> Check<()> {
     let dim = c.dim;
+    let spread = |k: usize| {
+        let centres = bodies.iter().map(|b| b.position[k]);
+        centres.clone().fold(f64::NEG_INFINITY, f64::max) - centres.fold(f64::INFINITY, f64::min)
+    };
+    let spreads: Vec<f64> = (0..dim).map(spread).collect();
+    let axis = (0..dim).fold(
+        0,
+        |best, k| if spreads[k] > spreads[best] { k } else { best },
+    );
+    // Each body's box as `dim` lower then `dim` upper bounds.
+    let boxes: Vec<Vec<f64>> = bodies
+        .iter()
+        .map(|b| {
+            let h = b.shape.half_box(dim);
+            let lo = (0..dim).map(|k| b.position[k] - h[k]);
+            let hi = (0..dim).map(|k| b.position[k] + h[k]);
+            lo.chain(hi).collect()
+        })
+        .collect();
     let mut order: Vec<usize> = (0..bodies.len()).collect();
-    let lo = |i: usize| bodies[i].position[0] - bodies[i].shape.half_box(dim)[0];
-    let hi = |i: usize| bodies[i].position[0] + bodies[i].shape.half_box(dim)[0];
-    order.sort_by(|&a, &b| lo(a).total_cmp(&lo(b)).then(a.cmp(&b)));
-    for (n, &i) in order.iter().enumerate() {
-        let end = hi(i);
-        for &j in &order[n + 1..] {
-            if lo(j) > end {
+    order.sort_by(|&a, &b| boxes[a][axis].total_cmp(&boxes[b][axis]).then(a.cmp(&b)));
+    // The boxes and fixed flags in sweep order, contiguous: the inner loop
+    // reads memory in sequence and touches a body only for a candidate pair.
+    let sorted: Vec<f64> = order
+        .iter()
+        .flat_map(|&i| boxes[i].iter().copied())
+        .collect();
+    let fixed: Vec<bool> = order.iter().map(|&i| bodies[i].fixed).collect();
+    let stride = 2 * dim;
+    for (m, &i) in order.iter().enumerate() {
+        let box_i = &sorted[m * stride..(m + 1) * stride];
+        let end = box_i[dim + axis];
+        for (q, &j) in order.iter().enumerate().skip(m + 1) {
+            let box_j = &sorted[q * stride..(q + 1) * stride];
+            if box_j[axis] > end {
                 break;
             }
-            let (a, b) = (&bodies[i], &bodies[j]);
-            if a.fixed && b.fixed {
+            // Boxes apart on some axis: the bodies cannot overlap.
+            if (fixed[m] && fixed[q])
+                || (0..dim).any(|k| box_i[dim + k] < box_j[k] || box_j[dim + k] < box_i[k])
+            {
                 continue;
             }
+            let (a, b) = (&bodies[i], &bodies[j]);
             let tol = 1e-4 * a.shape.min_size().min(b.shape.min_size());
             let d = depth(a, b);
             if d > tol {

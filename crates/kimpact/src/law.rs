@@ -596,8 +596,10 @@ impl<T: RealField + Copy> Law<T> {
     /// towards `b` (any length; it is normalized).
     ///
     /// Returns `Ok(None)` when the pair is not approaching along the normal
-    /// (`(v_b − v_a)·n̄ >= 0`: the note's formula would pull it together) or
-    /// when both bodies are immovable.
+    /// (`(v_b − v_a)·n̄ >= 0`: the note's formula would pull it together),
+    /// when both bodies are immovable, or when the relative velocity or the
+    /// velocity change `u (1 + e) <= 2u` overflows the type (speeds beyond
+    /// half its largest finite value): the law never reports a NaN.
     ///
     /// # Errors
     /// [`LawError::ZeroNormal`] or [`LawError::NonFiniteNormal`]. Bodies are
@@ -628,10 +630,26 @@ impl<T: RealField + Copy> Law<T> {
             return None;
         }
         let pair = self.pair_masses(a.mass, b.mass)?;
-        let (q, restitution) =
-            self.coefficient(&pair, || (w * (T::one() / approach_speed)).norm_squared());
+        let (q, restitution) = self.coefficient(&pair, || {
+            // ρ = (|w|/u)². For a subnormal u, 1/u overflows and a zero
+            // component of w would make ρ NaN (then misread as clamped):
+            // divide instead on that rare path.
+            let inverse = T::one() / approach_speed;
+            if inverse.is_finite() {
+                (w * inverse).norm_squared()
+            } else {
+                (w / approach_speed).norm_squared()
+            }
+        });
         let e = restitution.coefficient;
         let s = approach_speed * (T::one() + e);
+        // `s <= 2u` overflows only for u above half the largest finite
+        // value: the velocity change is not representable (and `n̄ · ∞` would
+        // put NaN into the zero components of Δv). No impact, as for an
+        // overflowing `w`.
+        if !s.is_finite() {
+            return None;
+        }
         let delta_v_a = n * (-(pair.frac_b * s));
         let delta_v_b = n * (pair.frac_a * s);
         let energy_before = a.kinetic_energy() + b.kinetic_energy();
@@ -647,7 +665,12 @@ impl<T: RealField + Copy> Law<T> {
             restitution: e,
             energy_before,
             energy_after,
-            dissipated: half::<T>() * pair.reduced * approach_speed * approach_speed * q,
+            // ½ μ u² may overflow: `∞ · 0` would be NaN for an elastic impact.
+            dissipated: if q == T::zero() {
+                T::zero()
+            } else {
+                half::<T>() * pair.reduced * approach_speed * approach_speed * q
+            },
             clamped: restitution.clamped,
         })
     }
