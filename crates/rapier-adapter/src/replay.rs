@@ -631,11 +631,7 @@ impl Replay {
         rest_speed: Real,
         narrow: bool,
     ) {
-        self.clear();
-        self.phase = Phase::Pre;
-        self.rest_speed = rest_speed;
-        self.gravity_dt = gravity * dt;
-        if dt.is_nan() || dt <= 0.0 {
+        if !self.begin(Phase::Pre, gravity, dt, rest_speed) {
             return;
         }
         let config = *k.config_ref();
@@ -675,6 +671,16 @@ impl Replay {
         }
     }
 
+    /// Start a run: empty scratch, the phase and the step's constants;
+    /// whether the step can be replayed at all (`dt > 0`).
+    fn begin(&mut self, phase: Phase, gravity: Vector, dt: Real, rest_speed: Real) -> bool {
+        self.clear();
+        self.phase = phase;
+        self.gravity_dt = gravity * dt;
+        self.rest_speed = rest_speed;
+        dt > 0.0
+    }
+
     /// The bodies whose velocity the last run changed.
     pub(crate) fn hit_bodies(&self) -> impl Iterator<Item = RigidBodyHandle> + '_ {
         self.nodes.iter().filter_map(|n| match n.key {
@@ -696,10 +702,7 @@ impl Replay {
         dt: Real,
         rest_speed: Real,
     ) {
-        self.clear();
-        self.phase = Phase::Post;
-        self.gravity_dt = gravity * dt;
-        if dt.is_nan() || dt <= 0.0 {
+        if !self.begin(Phase::Post, gravity, dt, rest_speed) {
             return;
         }
         for j in 0..k.candidates_sorted().len() {
