@@ -362,11 +362,8 @@ fn times_pow2(mut x: f64, mut k: i32) -> f64 {
 fn field_values<T: Float, const D: usize>(i: &Impact<T, D>) -> Vec<(&'static str, T)> {
     let mut out = vec![
         ("approach_speed", i.approach_speed),
-        ("k", i.k),
         ("impulse", i.impulse),
         ("restitution", i.restitution),
-        ("energy_before", i.energy_before),
-        ("energy_after", i.energy_after),
         ("dissipated", i.dissipated),
     ];
     out.extend(i.normal.iter().map(|x| ("normal", *x)));
@@ -613,13 +610,15 @@ fn check_impact<T: Float, const D: usize>(
             "immovable b moved: {i:?}"
         );
     }
-    for x in [
-        i.impulse,
-        i.energy_before,
-        i.energy_after,
-        i.dissipated,
-        i.k,
-    ] {
+    // Computed on demand (not by `resolve`), checked the same way.
+    let energies = i.energies(a, b);
+    let k = i.k(a.mass(), b.mass());
+    ensure!(!k.to64().is_nan(), "k is NaN in {i:?}");
+    ensure!(
+        !energies.before.to64().is_nan() && !energies.after.to64().is_nan(),
+        "energy NaN in {i:?}"
+    );
+    for x in [i.impulse, energies.before, energies.after, i.dissipated, k] {
         ensure!(x >= T::zero(), "negative output in {i:?}");
     }
 
@@ -656,15 +655,14 @@ fn check_impact<T: Float, const D: usize>(
             .map(|m| m * speed_bound * speed_bound)
             .sum::<f64>();
         if fits(energy_bound) && fits(speed_bound * speed_bound) {
-            for x in [i.energy_before, i.energy_after, i.dissipated] {
+            for x in [energies.before, energies.after, i.dissipated] {
                 ensure!(x.is_finite(), "energy overflowed in {i:?}");
             }
         }
     }
-    let all_finite = field_values(i)
-        .iter()
-        .filter(|(name, _)| *name != "k")
-        .all(|(_, x)| x.is_finite())
+    let all_finite = field_values(i).iter().all(|(_, x)| x.is_finite())
+        && energies.before.is_finite()
+        && energies.after.is_finite()
         && finals
             .0
             .iter()

@@ -29,7 +29,8 @@
 //! let object = Body::new(0.17, Vector3::zeros())?;
 //! // The normal points from the first body towards the second.
 //! let impact = law.resolve(&cue, &object, &Vector3::x())?.expect("approaching");
-//! let lost = impact.energy_before - impact.energy_after;
+//! let energies = impact.energies(&cue, &object);
+//! let lost = energies.before - energies.after;
 //! assert!((lost - impact.dissipated).abs() < 1e-12);
 //! assert!(impact.restitution < 1.0);
 //! # Ok::<(), kimpact::LawError>(())
@@ -41,7 +42,9 @@ mod error;
 mod law;
 
 pub use error::{LawError, Which};
-pub use law::{Body, CLAMP_TOLERANCE, FixedPartner, Impact, Law, LawParams, Mass, Restitution};
+pub use law::{
+    Body, CLAMP_TOLERANCE, Energies, FixedPartner, Impact, Law, LawParams, Mass, Restitution,
+};
 
 /// Re-export of the nalgebra this crate speaks.
 pub use nalgebra;

@@ -9,23 +9,34 @@
 use kimpact::nalgebra::{RealField, SVector, Vector2, Vector3};
 use kimpact::{Body, FixedPartner, Impact, Law, LawError, LawParams, Mass, Which};
 
-/// Every field of an impact, for "never NaN" checks.
-fn fields<T: RealField + Copy, const D: usize>(i: &Impact<T, D>) -> Vec<T> {
+/// Every field of an impact and every quantity derived from it (`k`, the
+/// energies of the bodies it was resolved with), for "never NaN" checks.
+fn fields<T: RealField + Copy, const D: usize>(
+    i: &Impact<T, D>,
+    a: &Body<T, D>,
+    b: &Body<T, D>,
+) -> Vec<T> {
+    let energies = i.energies(a, b);
     let mut out = vec![
         i.approach_speed,
-        i.k,
+        i.k(a.mass(), b.mass()),
+        i.speed_change(),
         i.impulse,
         i.restitution,
-        i.energy_before,
-        i.energy_after,
+        energies.before,
+        energies.after,
         i.dissipated,
     ];
     out.extend(i.normal.iter().chain(&i.delta_v_a).chain(&i.delta_v_b));
     out
 }
 
-fn assert_no_nan<T: RealField + Copy, const D: usize>(i: &Impact<T, D>) {
-    for x in fields(i) {
+fn assert_no_nan<T: RealField + Copy, const D: usize>(
+    i: &Impact<T, D>,
+    a: &Body<T, D>,
+    b: &Body<T, D>,
+) {
+    for x in fields(i, a, b) {
         let x: f64 = x.to_subset().expect("f32 or f64");
         assert!(!x.is_nan(), "NaN in {i:?}");
     }
@@ -63,7 +74,7 @@ fn velocity_change_that_overflows_is_no_impact_not_nan() {
         .resolve(&ball, &wall, &Vector2::y())
         .unwrap()
         .expect("approaching");
-    assert_no_nan(&i);
+    assert_no_nan(&i, &ball, &wall);
     assert!(i.delta_v_a.iter().all(|x| x.is_finite()));
     assert_eq!(i.delta_v_a, Vector2::new(0.0, -0.98 * f32::MAX));
 }
@@ -80,7 +91,7 @@ fn elastic_impact_reports_zero_dissipation_even_when_half_mu_u2_overflows() {
         .expect("approaching");
     assert_eq!(i.dissipated, 0.0);
     assert_eq!(i.restitution, 1.0);
-    assert_no_nan(&i);
+    assert_no_nan(&i, &a, &b);
     // The velocities are exact: equal masses swap their velocities.
     assert_eq!(a.velocity() + i.delta_v_a, Vector2::new(-1e5, 0.0));
     assert_eq!(b.velocity() + i.delta_v_b, Vector2::new(1e5, 0.0));
@@ -92,7 +103,7 @@ fn elastic_impact_reports_zero_dissipation_even_when_half_mu_u2_overflows() {
         .unwrap()
         .expect("approaching");
     assert_eq!(i.dissipated, 0.0);
-    assert_no_nan(&i);
+    assert_no_nan(&i, &a, &wall);
 }
 
 // Found by the fuzzer (crash-519d3989…): for a subnormal approach speed,
@@ -110,7 +121,7 @@ fn subnormal_approach_speed_keeps_the_true_restitution() {
         let mut n = SVector::<T, D>::zeros();
         n[0] = T::one();
         let i = law.resolve(&ball, &wall, &n).unwrap().expect("approaching");
-        assert_no_nan(&i);
+        assert_no_nan(&i, &ball, &wall);
         // q = 2 d̃ (|w|/u)² = 0.02 against an own-mass wall.
         let e: f64 = i.restitution.to_subset().unwrap();
         assert!(!i.clamped, "misread as clamped: {i:?}");
@@ -348,7 +359,7 @@ fn extreme_masses_and_speeds_never_give_nan() {
                         .resolve(x, y, &Vector3::new(1.0, 0.0, 0.0))
                         .unwrap()
                         .expect("approaching");
-                    assert_no_nan(&i);
+                    assert_no_nan(&i, x, y);
                     let e = i.restitution;
                     assert!((0.0..=1.0).contains(&e), "e = {e}");
                     assert!(

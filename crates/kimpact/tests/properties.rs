@@ -238,12 +238,13 @@ fn everything_finite<T: RealField + Copy, const D: usize>(c: &Case) -> Result<()
     {
         prop_assert!(x.is_finite());
     }
+    let energies = i.energies(&s.a, &s.b);
     for x in [
-        i.k,
+        i.k(s.a.mass(), s.b.mass()),
         i.impulse,
         i.restitution,
-        i.energy_before,
-        i.energy_after,
+        energies.before,
+        energies.after,
         i.dissipated,
         i.approach_speed,
     ] {
