@@ -29,9 +29,11 @@ use std::collections::BinaryHeap;
 use kimpact::Mass;
 
 use crate::math::{Pose, Real, Vector, from_law, to_law};
-use crate::rapier::parry::query::{ShapeCastOptions, cast_shapes};
 use crate::rapier::prelude::*;
 use crate::resolver::{Candidate, Kimpact, LawBody, checked, governs, law_body};
+
+/// Pairs a node's adjacency list holds before it first reallocates.
+const ADJACENCY_ROOM: usize = 16;
 
 /// What a node of the replay stands for.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
@@ -148,6 +150,9 @@ pub(crate) struct Replay {
     gravity_dt: Vector,
     /// The rest speed of this run.
     rest_speed: Real,
+    /// How far a body must move this step (besides more than half its
+    /// size) to be swept for partners: see [`Replay::run`].
+    sweep_reach: Real,
     nodes: Vec<Node>,
     /// Node of a body, by the body's index (valid when stamped this run):
     /// dense arrays rather than hash maps (hashing was a fifth of a step).
@@ -284,7 +289,15 @@ impl Replay {
         let i = self.nodes.len();
         self.nodes.push(node);
         if self.adjacency.len() <= i {
-            self.adjacency.push(Vec::new());
+            // Node numbers change from step to step, so a list that is ever
+            // short of room would reallocate in steady state: give each
+            // room for a ball touching its kissing number of balls (12 in
+            // 3D) and a few walls up front, and make the lists in bulk as
+            // the node vector doubles, not one more whenever a step has one
+            // more node than any before it.
+            let room = self.nodes.capacity().max(i + 1);
+            self.adjacency
+                .resize_with(room, || Vec::with_capacity(ADJACENCY_ROOM));
         }
         let slot = Slot {
             stamp: self.stamp,
@@ -451,7 +464,7 @@ impl Replay {
         self.heap.push(entry);
     }
 
-    /// parry's linear shape cast of pair `pair` from time `from`, over
+    /// The linear cast ([`crate::cast`]) of pair `pair` from time `from`, over
     /// `window` seconds: (time after `from`, world normal, world point).
     fn cast(
         &self,
@@ -465,24 +478,10 @@ impl Replay {
         let pos2 = self.pose(bodies, colliders, pair.b, pair.c2, from)?;
         let s1 = colliders.get(pair.c1)?.shape();
         let s2 = colliders.get(pair.c2)?.shape();
-        let options = ShapeCastOptions {
-            max_time_of_impact: window,
-            target_distance: 0.0,
-            stop_at_penetration: false,
-            compute_impact_geometry_on_penetration: true,
-        };
         let (va, vb) = (self.nodes[pair.a].v, self.nodes[pair.b].v);
-        let hit = cast_shapes(&pos1, va, s1, &pos2, vb, s2, options).ok()??;
-        let normal = pos1.transform_vector(hit.normal1);
-        let len = normal.length();
-        if len.is_nan() || len <= 0.0 {
-            return None;
-        }
-        Some((
-            hit.time_of_impact,
-            normal / len,
-            pos1.transform_point(hit.witness1),
-        ))
+        crate::cast::cast(&pos1, va, s1, &pos2, vb, s2, window, false)
+            .ok()
+            .flatten()
     }
 
     /// Bring the governed contacts of node `n`'s marked colliders into the
@@ -551,60 +550,77 @@ impl Replay {
         broad_phase: &BroadPhaseBvh,
         dt: Real,
     ) {
-        let config = k.config_ref();
-        for &ch in k.flagged_ref() {
-            let Some(co) = colliders.get(ch) else {
+        for j in 0..k.flagged_ref().len() {
+            let ch = k.flagged_ref()[j];
+            let Some(handle) = colliders.get(ch).and_then(|co| co.parent()) else {
                 continue;
             };
-            let Some(handle) = co.parent() else { continue };
             if self.phase == Phase::Post && k.start_of(handle).is_none() {
                 continue;
             }
             let n = self.node(k, bodies, ch, Some(handle), dt);
-            let moved = self.nodes[n].v * dt;
-            let aabb = co.compute_aabb();
-            let half = 0.5 * (aabb.maxs - aabb.mins).min_element();
-            if moved.length() <= half {
+            self.sweep(k, bodies, colliders, broad_phase, ch, n, 0.0, dt);
+        }
+    }
+
+    /// Sweep collider `ch` of node `n` along the node's path from `from` to
+    /// the end of the step, if it moves far enough over that time (more
+    /// than half its size, or more than `sweep_reach`), and bring every
+    /// governed collider the sweep meets into the replay, predicted from
+    /// `from`.
+    #[allow(clippy::too_many_arguments)]
+    fn sweep(
+        &mut self,
+        k: &Kimpact,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        broad_phase: &BroadPhaseBvh,
+        ch: ColliderHandle,
+        n: usize,
+        from: Real,
+        dt: Real,
+    ) {
+        let Some(co) = colliders.get(ch) else { return };
+        let moved = self.nodes[n].v * (dt - from);
+        let aabb = co.compute_aabb();
+        let half = 0.5 * (aabb.maxs - aabb.mins).min_element();
+        if moved.length() <= half.min(self.sweep_reach) {
+            return;
+        }
+        let grow = match self.phase {
+            Phase::Pre => 2.0 * moved.length(),
+            Phase::Post => 0.0,
+        };
+        let (Some(start), Some(end)) = (
+            self.pose(bodies, colliders, n, ch, from),
+            self.pose(bodies, colliders, n, ch, dt),
+        ) else {
+            return;
+        };
+        let swept = co
+            .shape()
+            .compute_aabb(&start)
+            .merged(&co.shape().compute_aabb(&end))
+            .loosened(grow);
+        let dispatcher = crate::rapier::parry::query::DefaultQueryDispatcher;
+        let query =
+            broad_phase.as_query_pipeline(&dispatcher, bodies, colliders, QueryFilter::default());
+        let config = k.config_ref();
+        for (other, _) in query.intersect_aabb_conservative(swept) {
+            if other == ch
+                || !governs(
+                    k.marked_ref(),
+                    config.fixed_partners,
+                    colliders,
+                    bodies,
+                    ch,
+                    other,
+                )
+            {
                 continue;
             }
-            let grow = match self.phase {
-                Phase::Pre => 2.0 * moved.length(),
-                Phase::Post => 0.0,
-            };
-            let (Some(start), Some(end)) = (
-                self.pose(bodies, colliders, n, ch, 0.0),
-                self.pose(bodies, colliders, n, ch, dt),
-            ) else {
-                continue;
-            };
-            let swept = co
-                .shape()
-                .compute_aabb(&start)
-                .merged(&co.shape().compute_aabb(&end))
-                .loosened(grow);
-            let dispatcher = crate::rapier::parry::query::DefaultQueryDispatcher;
-            let query = broad_phase.as_query_pipeline(
-                &dispatcher,
-                bodies,
-                colliders,
-                QueryFilter::default(),
-            );
-            for (other, _) in query.intersect_aabb_conservative(swept) {
-                if other == ch
-                    || !governs(
-                        k.marked_ref(),
-                        config.fixed_partners,
-                        colliders,
-                        bodies,
-                        ch,
-                        other,
-                    )
-                {
-                    continue;
-                }
-                if let Some(i) = self.add_pair(k, bodies, colliders, ch, other, dt) {
-                    self.predict(bodies, colliders, i, 0.0, dt, true);
-                }
+            if let Some(i) = self.add_pair(k, bodies, colliders, ch, other, dt) {
+                self.predict(bodies, colliders, i, from, dt, from == 0.0);
             }
         }
     }
@@ -630,10 +646,18 @@ impl Replay {
         dt: Real,
         rest_speed: Real,
         narrow: bool,
+        prediction: Real,
     ) {
         if !self.begin(Phase::Pre, gravity, dt, rest_speed) {
             return;
         }
+        // Impulse mode sweeps what the narrow phase cannot have seen (see
+        // `run`); restitution only what could tunnel.
+        self.sweep_reach = if narrow {
+            0.5 * prediction
+        } else {
+            Real::INFINITY
+        };
         let config = *k.config_ref();
         let seeded = if narrow { k.flagged_ref().len() } else { 0 };
         for j in 0..seeded {
@@ -657,7 +681,15 @@ impl Replay {
             }
         }
         self.sweep_fast_bodies(k, bodies, colliders, broad_phase, dt);
-        self.resolve(k, bodies, colliders, narrow_phase, dt, rest_speed);
+        self.resolve(
+            k,
+            bodies,
+            colliders,
+            narrow_phase,
+            broad_phase,
+            dt,
+            rest_speed,
+        );
         for node in &self.nodes {
             let (true, true, Key::Body(h)) = (node.dynamic, node.hit, node.key) else {
                 continue;
@@ -701,10 +733,17 @@ impl Replay {
         gravity: Vector,
         dt: Real,
         rest_speed: Real,
+        prediction: Real,
     ) {
         if !self.begin(Phase::Post, gravity, dt, rest_speed) {
             return;
         }
+        // rapier's contacts (hence the candidates) reach `prediction` beyond
+        // the start-of-step shapes. Two bodies each moving at most half of
+        // that close at most all of it, so they were seen; a body moving
+        // more may reach a partner unseen (a gas ball at 3 m/s moves 0.05
+        // per step at 60 Hz, the prediction is 0.02), and is swept.
+        self.sweep_reach = 0.5 * prediction;
         for j in 0..k.candidates_sorted().len() {
             let c: Candidate = k.candidates_sorted()[j];
             if let Some(i) = self.add_pair(k, bodies, colliders, c.collider1, c.collider2, dt) {
@@ -712,7 +751,15 @@ impl Replay {
             }
         }
         self.sweep_fast_bodies(k, bodies, colliders, broad_phase, dt);
-        self.resolve(k, bodies, colliders, narrow_phase, dt, rest_speed);
+        self.resolve(
+            k,
+            bodies,
+            colliders,
+            narrow_phase,
+            broad_phase,
+            dt,
+            rest_speed,
+        );
         // Write back the bodies whose path the law bent.
         for node in &self.nodes {
             let (true, true, Key::Body(h)) = (node.dynamic, node.hit, node.key) else {
@@ -733,12 +780,14 @@ impl Replay {
 
     /// The impacts on the heap, in time order, each bending the paths of
     /// its two bodies and bringing their neighbours in.
+    #[allow(clippy::too_many_arguments)]
     fn resolve(
         &mut self,
         k: &mut Kimpact,
         bodies: &RigidBodySet,
         colliders: &ColliderSet,
         narrow_phase: &NarrowPhase,
+        broad_phase: &BroadPhaseBvh,
         dt: Real,
         rest_speed: Real,
     ) {
@@ -832,6 +881,10 @@ impl Replay {
             for n in [pair.a, pair.b] {
                 if self.nodes[n].dynamic {
                     self.expand(k, bodies, colliders, narrow_phase, n, from, dt);
+                    // The new path may reach what neither the narrow phase
+                    // nor the sweep along the old one saw.
+                    let collider = if n == pair.a { pair.c1 } else { pair.c2 };
+                    self.sweep(k, bodies, colliders, broad_phase, collider, n, from, dt);
                 }
             }
             for n in [pair.a, pair.b] {

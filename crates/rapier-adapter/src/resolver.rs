@@ -286,8 +286,9 @@ impl PhysicsHooks for HookState<'_> {
 
 impl HookState<'_> {
     /// Whether colliders `c1` and `c2` meet within this step on the straight
-    /// paths rapier is about to integrate (velocity plus gravity), by parry's
-    /// linear shape cast (exact for balls).
+    /// paths rapier is about to integrate (velocity plus gravity), by a
+    /// linear cast (closed form for two balls and for a ball and a cuboid,
+    /// parry's shape cast otherwise).
     #[allow(clippy::too_many_arguments)]
     fn meets(
         &self,
@@ -306,22 +307,17 @@ impl HookState<'_> {
         let (Some(co1), Some(co2)) = (colliders.get(c1), colliders.get(c2)) else {
             return true;
         };
-        let options = crate::rapier::parry::query::ShapeCastOptions {
-            max_time_of_impact: self.dt * (1.0 + crate::replay::PRE_HORIZON),
-            target_distance: 0.0,
-            stop_at_penetration: true,
-            compute_impact_geometry_on_penetration: false,
-        };
         // Anything but a clear "no" (an unsupported shape pair) is a meeting.
         !matches!(
-            crate::rapier::parry::query::cast_shapes(
+            crate::cast::cast(
                 co1.position(),
                 path(rb1),
                 co1.shape(),
                 co2.position(),
                 path(rb2),
                 co2.shape(),
-                options,
+                self.dt * (1.0 + crate::replay::PRE_HORIZON),
+                true,
             ),
             Ok(None)
         )
@@ -570,6 +566,7 @@ impl Kimpact {
                 dt,
                 rest_speed,
                 self.mode == Mode::Impulse,
+                integration_parameters.prediction_distance(),
             );
             // Bodies set moving by an impact need the hook this step too.
             for handle in replay.hit_bodies() {
@@ -632,6 +629,7 @@ impl Kimpact {
                     gravity,
                     dt,
                     rest_speed,
+                    integration_parameters.prediction_distance(),
                 );
                 self.replay = replay;
             }
