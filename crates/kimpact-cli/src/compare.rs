@@ -109,7 +109,13 @@ pub fn compare(scene: &Scene, steps: Option<u64>, dir: &Path) -> Result<(), CliE
     ));
     files.push((
         dir.join("energy.png"),
-        plot::png(&energy).map_err(|e| internal("energy.png", e))?,
+        plot::png(
+            &title("kinetic energy"),
+            "time (s)",
+            "kinetic energy",
+            &energy,
+        )
+        .map_err(|e| internal("energy.png", e))?,
     ));
     files.push((
         dir.join("momentum.svg"),
@@ -124,7 +130,13 @@ pub fn compare(scene: &Scene, steps: Option<u64>, dir: &Path) -> Result<(), CliE
     ));
     files.push((
         dir.join("momentum.png"),
-        plot::png(&momentum).map_err(|e| internal("momentum.png", e))?,
+        plot::png(
+            &title("|momentum| of all bodies"),
+            "time (s)",
+            "|momentum|",
+            &momentum,
+        )
+        .map_err(|e| internal("momentum.png", e))?,
     ));
 
     let all_frames: Vec<&sim::Frame> = runs.iter().flat_map(|r| r.frames.iter()).collect();

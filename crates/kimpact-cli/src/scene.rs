@@ -390,17 +390,14 @@ impl Scene {
         }
     }
 
-    /// Which bodies get CCD: as written (`ccd`), or automatically when a
-    /// body could move more than its smallest half size in one step. The
-    /// speed bound is the energy bound `sqrt(2 E / m)`: no body can be
-    /// faster than if it held all the scene's energy, `E` the kinetic
-    /// energy plus, with gravity, the potential energy of every body falling
-    /// across the whole scene (`Σ m |g| H`, `H` its largest extent). It holds
-    /// for any sequence of elastic or dissipative impacts (a light ball
-    /// trapped by a heavy one gains far more than twice any initial speed).
-    /// Slow bodies keep CCD cheap: rapier does time-of-impact work only for
-    /// CCD bodies that actually move fast in a step.
-    pub fn ccd_flags(&self) -> Vec<bool> {
+    /// The speed no moving body can exceed (`None` for fixed bodies): the
+    /// energy bound `sqrt(2 E / m)`, as fast as if the body held all the
+    /// scene's energy, `E` the kinetic energy plus, with gravity, the
+    /// potential energy of every body falling across the whole scene
+    /// (`Σ m |g| H`, `H` its largest extent). It holds for any sequence of
+    /// elastic or dissipative impacts (a light ball trapped by a heavy one
+    /// gains far more than twice any initial speed).
+    pub fn speed_bounds(&self) -> Vec<Option<f64>> {
         let speed2 = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>();
         let kinetic: f64 = self
             .bodies
@@ -414,10 +411,46 @@ impl Scene {
         let energy = kinetic + potential;
         self.bodies
             .iter()
-            .map(|b| match (b.fixed, b.ccd, b.mass) {
+            .map(|b| match (b.fixed, b.mass) {
+                (false, Some(m)) => Some((2.0 * energy / m).sqrt()),
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// Which bodies get CCD: as written (`ccd`), or automatically when a
+    /// body could move more than its smallest half size in one step at its
+    /// [speed bound](Self::speed_bounds). Slow bodies keep CCD cheap:
+    /// rapier does time-of-impact work only for CCD bodies that actually
+    /// move fast in a step.
+    pub fn ccd_flags(&self) -> Vec<bool> {
+        self.bodies
+            .iter()
+            .zip(self.speed_bounds())
+            .map(|(b, bound)| match (b.fixed, b.ccd, bound) {
                 (true, _, _) | (false, None, None) => false,
                 (false, Some(c), _) => c,
-                (false, None, Some(m)) => (2.0 * energy / m).sqrt() * self.dt > b.shape.min_size(),
+                (false, None, Some(v)) => v * self.dt > b.shape.min_size(),
+            })
+            .collect()
+    }
+
+    /// rapier's soft-CCD prediction distance of each body (0: none): the
+    /// distance a CCD body can cover in one step at its
+    /// [speed bound](Self::speed_bounds). rapier's CCD never sweeps one CCD
+    /// body against another; soft CCD also catches such pairs, by predicting
+    /// contacts as far ahead as the pair closes in the step (each body's
+    /// velocity capped at this distance per step, so the bound caps
+    /// nothing). A slow body that a fast one hits later has the same bound,
+    /// and the fast one carries the prediction meanwhile. The simulation
+    /// uses it in native mode only (see `docs/scenes.md`, "CCD").
+    pub fn soft_ccd_predictions(&self) -> Vec<f64> {
+        self.ccd_flags()
+            .into_iter()
+            .zip(self.speed_bounds())
+            .map(|(ccd, bound)| match (ccd, bound) {
+                (true, Some(v)) => v * self.dt,
+                _ => 0.0,
             })
             .collect()
     }

@@ -230,11 +230,18 @@ impl Replay {
                 let handle = parent.expect("a body has a handle");
                 let x0 = k.start_of(handle).unwrap_or(x1);
                 // rapier's velocity when the body moved with it (free flight:
-                // exact, where (x₁ − x₀)/dt would round), the chord otherwise.
+                // exact, where (x₁ − x₀)/dt would round), the chord otherwise;
+                // but not the chord of a motion rapier's CCD cut short (a fast
+                // body sweeps fixed colliders, a CCD-enabled one everything):
+                // that stop is at rapier's time of impact, with rapier's
+                // response, which the law replaces (the chord of a ball a CCD
+                // pass stopped at a wall is slower than the ball, and the law
+                // would meet the wall late).
                 let v1 = rb.linvel();
                 let moved = x1 - x0;
                 let slack = 8.0 * Real::EPSILON * (x1.abs() + x0.abs()).max_element();
-                let v_bar = if (moved - v1 * dt).abs().max_element() <= slack {
+                let free = (moved - v1 * dt).abs().max_element() <= slack;
+                let v_bar = if free || rb.is_ccd_active() {
                     v1
                 } else {
                     moved / dt
