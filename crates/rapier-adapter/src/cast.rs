@@ -208,7 +208,13 @@ mod tests {
     }
 
     proptest! {
-        #![proptest_config(ProptestConfig::with_cases(2000))]
+        // A fixed seed: CI and a local run try the same 2,000 cases (failures
+        // found before are replayed first from proptest-regressions/cast.txt).
+        #![proptest_config(ProptestConfig {
+            cases: 2000,
+            rng_seed: proptest::test_runner::RngSeed::Fixed(0x6b69_6d70_6163_7421),
+            ..ProptestConfig::default()
+        })]
 
         /// The closed-form cast of a ball against a cuboid finds the first
         /// touching time: touching there, never overlapping before it; and
@@ -281,7 +287,11 @@ mod tests {
                     .unwrap();
                 prop_assert_eq!(mine.is_some(), parry.is_some(), "mine {:?} parry {:?}", mine, parry);
                 if let (Some((t, n, _)), Some(p)) = (mine, parry) {
-                    prop_assert!((t - p.time_of_impact).abs() <= 1e-3 * window.max(t), "{t} vs {}", p.time_of_impact);
+                    // parry's GJK stops within a small distance of the touch
+                    // (1.4e-3 at 19 m/s in a case found in CI), the closed
+                    // form at it: compare the distance travelled in between.
+                    let apart = (t - p.time_of_impact).abs() * w.length();
+                    prop_assert!(apart <= 4.0 * tol, "{t} vs {} ({apart} apart)", p.time_of_impact);
                     prop_assert!(n.dot(p.normal1) > 0.99, "{n:?} vs {:?}", p.normal1);
                 }
             }
