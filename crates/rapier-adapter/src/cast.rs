@@ -115,8 +115,9 @@ fn ball_cuboid(
     // Converged when the gap is within a few roundings of the positions.
     let scale = c0.abs().max_element() + radius + w.abs().max_element() * window;
     let tolerance = scale * Real::EPSILON * 16.0;
-    let mut t: Real = 0.0;
-    for _ in 0..MAX_ITERATIONS {
+    // The cuboid's point nearest the centre at time t, its outward normal
+    // there and the signed gap; `Err` with the centre on the surface.
+    let nearest = |t: Real| -> Result<(Vector, Vector, Real), ()> {
         let c = c0 + w * t;
         let projection = cuboid.project_local_point(c, false);
         let to_surface = projection.point - c;
@@ -124,19 +125,28 @@ fn ball_cuboid(
         if !distance.is_finite() || distance == 0.0 {
             return Err(());
         }
-        // Outward normal of the cuboid at the point nearest the centre.
-        let (normal, gap) = if projection.is_inside {
-            (to_surface / distance, -distance - radius)
+        Ok(if projection.is_inside {
+            (projection.point, to_surface / distance, -distance - radius)
         } else {
-            (-to_surface / distance, distance - radius)
-        };
+            (projection.point, -to_surface / distance, distance - radius)
+        })
+    };
+    let hit = |t: Real, point: Vector, normal: Vector| {
+        let world_normal = cuboid_pose.transform_vector(normal);
+        (
+            t,
+            world_normal,
+            cuboid_pose.transform_point(point),
+            ball.translation - world_normal * radius,
+        )
+    };
+    let mut t: Real = 0.0;
+    for _ in 0..MAX_ITERATIONS {
+        let (point, normal, gap) = nearest(t)?;
         let closing = -w.dot(normal);
         let touching = gap <= tolerance;
         if touching && (t > 0.0 || stop_at_penetration || closing > 0.0) {
-            let world_normal = cuboid_pose.transform_vector(normal);
-            let on_cuboid = cuboid_pose.transform_point(projection.point);
-            let on_ball = ball.translation - world_normal * radius;
-            return Ok(Some((t, world_normal, on_cuboid, on_ball)));
+            return Ok(Some(hit(t, point, normal)));
         }
         // Separating (or parallel) at a convex obstacle: the distance never
         // decreases again along the path.
@@ -149,25 +159,8 @@ fn ball_cuboid(
         }
     }
     // Not converged (a glancing corner): the estimate is never late.
-    let c = c0 + w * t;
-    let projection = cuboid.project_local_point(c, false);
-    let to_surface = projection.point - c;
-    let distance = to_surface.length();
-    if !distance.is_finite() || distance == 0.0 {
-        return Err(());
-    }
-    let normal = if projection.is_inside {
-        to_surface / distance
-    } else {
-        -to_surface / distance
-    };
-    let world_normal = cuboid_pose.transform_vector(normal);
-    Ok(Some((
-        t,
-        world_normal,
-        cuboid_pose.transform_point(projection.point),
-        ball.translation - world_normal * radius,
-    )))
+    let (point, normal, _) = nearest(t)?;
+    Ok(Some(hit(t, point, normal)))
 }
 
 #[cfg(test)]
