@@ -218,11 +218,11 @@ fn summary(scene: &Scene, steps: u64, reports: &[Report], times: &[f64]) -> Stri
     );
     let _ = writeln!(
         s,
-        "| mode | kinetic initial | kinetic final | total energy change | \\|p\\| law initial | \\|p\\| law final | \\|Δp\\| all | impacts | clamped | dissipated | energy unexplained | s/step | max penetration / size | escaped |"
+        "| mode | kinetic initial | kinetic final | total energy change | \\|p\\| law initial | \\|p\\| law final | \\|Δp\\| all | impacts | clamped | dissipated | energy unexplained | s/step | max penetration / size | crossings | escaped |"
     );
     let _ = writeln!(
         s,
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
     );
     for r in reports {
         let dp: Vec<f64> = r
@@ -235,7 +235,7 @@ fn summary(scene: &Scene, steps: u64, reports: &[Report], times: &[f64]) -> Stri
             .collect();
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             r.mode,
             num(r.energy.kinetic_initial),
             num(r.energy.kinetic_final),
@@ -249,13 +249,14 @@ fn summary(scene: &Scene, steps: u64, reports: &[Report], times: &[f64]) -> Stri
             num(r.checks.energy_unexplained),
             num(r.timing.seconds_per_step),
             num(r.checks.max_penetration_ratio),
+            r.checks.crossings,
             r.checks.escaped.map_or("-".to_owned(), |e| e.to_string()),
         );
     }
     let _ = writeln!(s);
     let _ = writeln!(
         s,
-        "Impacts, clamped and dissipated are kimpact's counts (none in native mode). Energy unexplained = total energy change + dissipated: negative is energy lost in rapier's contacts, positive is energy created. Momentum changes through fixed bodies and gravity. Max penetration is the deepest contact seen, over the smaller body's size; escaped counts moving bodies that left the box of the fixed bodies.\n"
+        "Impacts, clamped and dissipated are kimpact's counts (none in native mode). Energy unexplained = total energy change + dissipated: negative is energy lost in rapier's contacts, positive is energy created. Momentum changes through fixed bodies and gravity. Max penetration is the deepest contact seen, over the smaller body's size; crossings counts pairs of balls that passed through each other within a step; escaped counts moving bodies that left the box of the fixed bodies.\n"
     );
     let _ = writeln!(
         s,

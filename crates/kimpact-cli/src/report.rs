@@ -141,6 +141,13 @@ pub struct Checks {
     pub max_penetration: f64,
     /// The same relative to the smaller body's smallest half size.
     pub max_penetration_ratio: f64,
+    /// Balls that passed through each other, counted once per pair and step:
+    /// moving both centres straight from where they started a step to where
+    /// they ended it, their centre-to-centre vector reverses along a path
+    /// closer than the smaller radius to the other centre. Tunnelling,
+    /// whatever the depths seen at step ends (every pair is checked, not
+    /// only those rapier saw).
+    pub crossings: u64,
     /// Moving bodies that ended outside the bounding box of the fixed
     /// bodies (`null` unless the fixed bodies' box holds every moving body
     /// at the start).
@@ -247,6 +254,7 @@ pub fn build(scene: &Scene, run: &RunOutput) -> Report {
         checks: Checks {
             max_penetration: run.max_penetration,
             max_penetration_ratio: run.max_penetration_ratio,
+            crossings: run.crossings,
             escaped,
             non_finite,
             energy_unexplained: (last.kinetic + last.potential) - (first.kinetic + first.potential)

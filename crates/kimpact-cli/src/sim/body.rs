@@ -173,23 +173,37 @@ pub(super) fn run(
     let mut wall = std::time::Duration::ZERO;
     let mut max_penetration: f64 = 0.0;
     let mut max_ratio: f64 = 0.0;
+    let mut crossings: u64 = 0;
+    let ball_radius: Vec<Option<f64>> = scene
+        .bodies
+        .iter()
+        .map(|b| match b.shape {
+            crate::scene::Shape::Ball { radius } => Some(radius),
+            crate::scene::Shape::Box { .. } => None,
+        })
+        .collect();
+    let centre = |world: &PhysicsWorld, h: &RigidBodyHandle| -> super::crossing::Point {
+        let x = to_vec(world.bodies[*h].translation());
+        [x[0], x[1], x.get(2).copied().unwrap_or(0.0)]
+    };
+    // Where every body started and ended the step (for the crossing check).
+    let mut before: Vec<super::crossing::Point> = handles.iter().map(|h| centre(&world, h)).collect();
+    let mut after = before.clone();
+    let mut crossing = super::crossing::Crossings::default();
     for step in 1..=steps {
         let start = std::time::Instant::now();
         kimpact.step_world(&mut world, &(), &());
         wall += start.elapsed();
         let time = step as f64 * scene.dt;
+        let of = |c: ColliderHandle| {
+            let (index, _) = c.into_raw_parts();
+            of_collider.get(index as usize).copied().flatten()
+        };
         for pair in world.narrow_phase.contact_pairs() {
             if !pair.has_any_active_contact() {
                 continue;
             }
-            let size = |c: ColliderHandle| {
-                let (index, _) = c.into_raw_parts();
-                of_collider
-                    .get(index as usize)
-                    .copied()
-                    .flatten()
-                    .map_or(f64::INFINITY, |x| x.1)
-            };
+            let size = |c: ColliderHandle| of(c).map_or(f64::INFINITY, |x| x.1);
             let smaller = size(pair.collider1).min(size(pair.collider2));
             for manifold in pair.manifolds() {
                 for point in &manifold.points {
@@ -203,6 +217,11 @@ pub(super) fn run(
                 }
             }
         }
+        for (x, h) in after.iter_mut().zip(&handles) {
+            *x = centre(&world, h);
+        }
+        crossings += crossing.count(&before, &after, &ball_radius);
+        std::mem::swap(&mut before, &mut after);
         samples.push(sample(&world, time));
         while next_frame < frame_steps.len() && frame_steps[next_frame] == step {
             frames.push(super::Frame {
@@ -233,6 +252,7 @@ pub(super) fn run(
         wall_seconds: wall.as_secs_f64(),
         max_penetration,
         max_penetration_ratio: max_ratio,
+        crossings,
         ccd_bodies: ccd.iter().filter(|c| **c).count(),
         law_bodies,
     }

@@ -4,6 +4,8 @@
 
 use indicatif::ProgressBar;
 
+pub mod crossing;
+
 use crate::Mode;
 use crate::scene::{Precision, Scene};
 
@@ -81,6 +83,9 @@ pub struct RunOutput {
     pub max_penetration: f64,
     /// The same, relative to the smaller body's smallest half size.
     pub max_penetration_ratio: f64,
+    /// Steps in which a pair of balls passed through each other (see
+    /// [`crate::report::Checks::crossings`]), counted per pair and step.
+    pub crossings: u64,
     /// Bodies that got CCD.
     pub ccd_bodies: usize,
     /// Colliders marked for the law.
