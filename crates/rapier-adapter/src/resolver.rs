@@ -387,6 +387,9 @@ pub struct Kimpact {
     pending: Vec<ColliderHandle>,
     /// Bodies kimpact gave a new velocity since the last `prepare`.
     woken: Vec<RigidBodyHandle>,
+    /// Scratch of `prepare`: the awake bodies fast enough to be flagged.
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    fast: Vec<RigidBodyHandle>,
     #[cfg_attr(feature = "serde-serialize", serde(skip))]
     candidates: Mutex<Vec<Candidate>>,
     #[cfg_attr(feature = "serde-serialize", serde(skip))]
@@ -423,6 +426,7 @@ impl Kimpact {
             epoch: 0,
             pending: Vec::new(),
             woken: Vec::new(),
+            fast: Vec::new(),
             candidates: Mutex::new(Vec::new()),
             guarded: std::sync::atomic::AtomicU64::new(0),
             sorted: Vec::new(),
@@ -658,9 +662,30 @@ impl Kimpact {
         self.flagged.clear();
         if self.mode != Mode::Native {
             let threshold = 0.5 * rest_speed;
+            // Every awake body, at every step: a tight first pass reads only
+            // the velocity (a body's data spans several cache lines, and
+            // this read is a cache miss per body in a large scene; a loop
+            // without calls or stores lets the processor overlap them) and,
+            // in exact mode, the start of a slow body (it may join a chain:
+            // stored whether or not it has a marked collider; a kinematic
+            // body's start is never read). The few fast bodies get the rest.
+            let exact = self.mode == Mode::Exact;
+            let mut fast = std::mem::take(&mut self.fast);
             for handle in islands.active_bodies() {
+                let Some(rb) = bodies.get(handle) else {
+                    continue;
+                };
+                if rb.linvel().length_squared() > threshold * threshold {
+                    fast.push(handle);
+                } else if exact {
+                    self.store_start(handle, rb.translation());
+                }
+            }
+            for &handle in &fast {
                 self.prepare_body(handle, bodies, colliders, threshold);
             }
+            fast.clear();
+            self.fast = fast;
             let mut pending = std::mem::take(&mut self.pending);
             for &ch in &pending {
                 if let Some(handle) = colliders.get(ch).and_then(|co| co.parent()) {
@@ -697,7 +722,8 @@ impl Kimpact {
         self.previous.clear();
     }
 
-    /// `prepare` for one body.
+    /// `prepare` for one body (fast ones, and those marked or woken since
+    /// the last step).
     fn prepare_body(
         &mut self,
         handle: RigidBodyHandle,
@@ -709,22 +735,28 @@ impl Kimpact {
         if !rb.is_dynamic() || rb.is_sleeping() {
             return;
         }
-        let any_marked = if rb.linvel().length() > threshold {
+        let any_marked = if rb.linvel().length_squared() > threshold * threshold {
             self.flag(rb, colliders)
         } else {
             rb.colliders().iter().any(|&ch| is_marked(&self.marked, ch))
         };
         if any_marked && self.mode == Mode::Exact {
-            let (index, generation) = handle.into_raw_parts();
-            let index = index as usize;
-            if self.start.len() <= index {
-                self.start.resize(index + 1, Start::default());
-            }
-            self.start[index] = Start {
-                tag: generation.wrapping_add(1),
-                translation: rb.translation(),
-            };
+            self.store_start(handle, rb.translation());
         }
+    }
+
+    /// Record where body `handle` starts the step (exact mode).
+    #[inline]
+    fn store_start(&mut self, handle: RigidBodyHandle, translation: Vector) {
+        let (index, generation) = handle.into_raw_parts();
+        let index = index as usize;
+        if self.start.len() <= index {
+            self.start.resize(index + 1, Start::default());
+        }
+        self.start[index] = Start {
+            tag: generation.wrapping_add(1),
+            translation,
+        };
     }
 
     /// Set the hook flag on the marked colliders of `rb` (leaving a flag the
