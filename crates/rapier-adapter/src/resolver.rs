@@ -924,6 +924,13 @@ impl Kimpact {
         self.woken.push(h);
     }
 
+    /// Testing aid: sweep fast bodies one broad-phase query at a time, never
+    /// in bulk (the outcome is the same bit for bit; tests check it).
+    #[doc(hidden)]
+    pub fn set_per_body_sweep(&mut self, on: bool) {
+        self.replay.per_body_sweep = on;
+    }
+
     pub(crate) fn count_cap_hit(&mut self) {
         self.stats.event_cap_hits += 1;
     }
