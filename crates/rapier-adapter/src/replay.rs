@@ -165,6 +165,14 @@ pub(crate) struct Replay {
     pairs: Vec<Pair>,
     /// For each node, the pairs it is in.
     adjacency: Vec<Vec<usize>>,
+    /// The lists of non-dynamic nodes (walls, floors), kept by body or
+    /// collider index between runs: a wall meets many bodies, its node
+    /// number changes from step to step, and a list of that size moving to
+    /// a new node slot each step would reallocate in steady state. Swapped
+    /// into `adjacency` when the node is made, back in `clear`.
+    fixed_adjacency: Vec<Vec<usize>>,
+    /// (node, index into `fixed_adjacency`) of this run's swaps.
+    fixed_swaps: Vec<(usize, usize)>,
     heap: BinaryHeap<Entry>,
     /// Scratch of the bulk sweep: the colliders to sweep (collider, node,
     /// swept box).
@@ -350,6 +358,9 @@ impl Replay {
         for a in &mut self.adjacency {
             a.clear();
         }
+        for (n, f) in self.fixed_swaps.drain(..) {
+            std::mem::swap(&mut self.adjacency[n], &mut self.fixed_adjacency[f]);
+        }
         self.heap.clear();
     }
 
@@ -474,6 +485,19 @@ impl Replay {
             let room = self.nodes.capacity().max(i + 1);
             self.adjacency
                 .resize_with(room, || Vec::with_capacity(ADJACENCY_ROOM));
+        }
+        if !self.nodes[i].dynamic {
+            // Key::Body index i → 2 i, Key::Collider index i → 2 i + 1.
+            let f = match key {
+                Key::Body(h) => 2 * h.into_raw_parts().0 as usize,
+                Key::Collider(c) => 2 * c.into_raw_parts().0 as usize + 1,
+            };
+            if self.fixed_adjacency.len() <= f {
+                self.fixed_adjacency
+                    .resize_with(f + 1, || Vec::with_capacity(ADJACENCY_ROOM));
+            }
+            std::mem::swap(&mut self.adjacency[i], &mut self.fixed_adjacency[f]);
+            self.fixed_swaps.push((i, f));
         }
         let slot = Slot {
             stamp: self.stamp,
