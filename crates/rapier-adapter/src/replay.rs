@@ -224,7 +224,9 @@ impl SweepGrid {
     /// Grid the boxes: cells as large as the largest box (each box then
     /// covers at most 2 cells per axis), fewer if that would make more
     /// than `CELLS_PER_BOX` cells per box.
-    fn build(&mut self, boxes: impl Iterator<Item = Aabb> + Clone) {
+    /// `false` (nothing built) if the boxes span more than the scalar type
+    /// can hold.
+    fn build(&mut self, boxes: impl Iterator<Item = Aabb> + Clone) -> bool {
         let mut lo = Vector::splat(Real::MAX);
         let mut hi = Vector::splat(Real::MIN);
         let mut largest: Real = 0.0;
@@ -236,6 +238,9 @@ impl SweepGrid {
             n += 1;
         }
         let extent = hi - lo;
+        if !(extent.is_finite() && largest.is_finite()) {
+            return false;
+        }
         let mut cell = largest
             .max(Real::EPSILON * extent.max_element())
             .max(Real::MIN_POSITIVE);
@@ -283,6 +288,7 @@ impl SweepGrid {
         // `start[c + 1]` now holds the first item of cell c: shift back.
         self.start.rotate_left(1);
         self.start[cells] = self.items.len() as u32;
+        true
     }
 
     /// The cells a box covers, clamped to the grid; `None` if it misses the
@@ -893,7 +899,13 @@ impl Replay {
             .as_query_pipeline(&dispatcher, bodies, colliders, QueryFilter::default())
             .bvh;
         let mut grid = std::mem::take(&mut self.grid);
-        grid.build(sweepers.iter().map(|x| x.2));
+        if !grid.build(sweepers.iter().map(|x| x.2)) {
+            self.grid = grid;
+            for &(ch, _, aabb) in sweepers {
+                self.sweep_query(k, bodies, colliders, broad_phase, ch, aabb, 0.0, dt);
+            }
+            return;
+        }
         let mut found = std::mem::take(&mut self.found);
         found.clear();
         // Every leaf of rapier's tree, depth first (its memory order): a
@@ -1266,7 +1278,7 @@ mod tests {
             let mut queries: Vec<Aabb> = (0..300).map(|_| rng.aabb(14.0, 1.0)).collect();
             queries.push(Aabb::new(Vector::splat(-100.0), Vector::splat(100.0)));
             let mut grid = SweepGrid::default();
-            grid.build(boxes.iter().copied());
+            assert!(grid.build(boxes.iter().copied()));
             let mut found = Vec::new();
             for (q, aabb) in queries.iter().enumerate() {
                 grid.overlaps(aabb, |s| found.push((s, q)));
@@ -1284,5 +1296,21 @@ mod tests {
             assert!(brute.len() > 300, "size {size}: {} overlaps", brute.len());
             assert_eq!(found, brute, "size {size}");
         }
+    }
+
+    /// Boxes further apart than the scalar type can measure are not
+    /// gridded (the caller falls back to one query per box) rather than
+    /// looping or indexing out of range.
+    #[test]
+    fn the_sweep_grid_refuses_boxes_it_cannot_measure() {
+        let far = Real::MAX * 0.75;
+        let boxes = [
+            Aabb::new(Vector::splat(-far), Vector::splat(-far + 1.0)),
+            Aabb::new(Vector::splat(far - 1.0), Vector::splat(far)),
+        ];
+        let mut grid = SweepGrid::default();
+        assert!(!grid.build(boxes.iter().copied()));
+        let near = [Aabb::new(Vector::ZERO, Vector::splat(1.0)); 2];
+        assert!(grid.build(near.iter().copied()));
     }
 }

@@ -925,7 +925,8 @@ impl Kimpact {
     }
 
     /// Testing aid: sweep fast bodies one broad-phase query at a time, never
-    /// in bulk (the outcome is the same bit for bit; tests check it).
+    /// in bulk (in a gas the bodies come out the same bit for bit either
+    /// way; a test checks it).
     #[doc(hidden)]
     pub fn set_per_body_sweep(&mut self, on: bool) {
         self.replay.per_body_sweep = on;
