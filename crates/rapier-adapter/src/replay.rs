@@ -268,7 +268,9 @@ impl SweepGrid {
             let r = self.range(&b).expect("a box inside the grid");
             self.ranges.push(r);
             self.boxes.push(b);
-            self.for_cells(r, |grid, c| grid.start[c + 1] += 1);
+            for (c, _) in cells_of(self.dims, r) {
+                self.start[c + 1] += 1;
+            }
         }
         for c in 0..cells {
             self.start[c + 1] += self.start[c];
@@ -278,12 +280,10 @@ impl SweepGrid {
         // Fill from the back of each cell's row (`start` ends up as the
         // first item of each cell again).
         for i in (0..self.ranges.len()).rev() {
-            let r = self.ranges[i];
-            self.for_cells(r, |grid, c| {
-                grid.start[c + 1] -= 1;
-                let slot = grid.start[c + 1] as usize;
-                grid.items[slot] = i as u32;
-            });
+            for (c, _) in cells_of(self.dims, self.ranges[i]) {
+                self.start[c + 1] -= 1;
+                self.items[self.start[c + 1] as usize] = i as u32;
+            }
         }
         // `start[c + 1]` now holds the first item of cell c: shift back.
         self.start.rotate_left(1);
@@ -314,33 +314,27 @@ impl SweepGrid {
     /// no particular order.
     fn overlaps(&self, aabb: &Aabb, mut f: impl FnMut(u32)) {
         let Some(r) = self.range(aabb) else { return };
-        for z in r[2][0]..=r[2][1] {
-            for y in r[1][0]..=r[1][1] {
-                for x in r[0][0]..=r[0][1] {
-                    let c = (z * self.dims[1] + y) * self.dims[0] + x;
-                    for &s in &self.items[self.start[c] as usize..self.start[c + 1] as usize] {
-                        // Once: in the first cell both cover.
-                        let sr = self.ranges[s as usize];
-                        let first = (0..3).all(|k| [x, y, z][k] == r[k][0].max(sr[k][0]));
-                        if first && aabb.intersects(&self.boxes[s as usize]) {
-                            f(s);
-                        }
-                    }
+        for (c, at) in cells_of(self.dims, r) {
+            for &s in &self.items[self.start[c] as usize..self.start[c + 1] as usize] {
+                // Once: in the first cell both cover.
+                let sr = self.ranges[s as usize];
+                let first = (0..3).all(|k| at[k] == r[k][0].max(sr[k][0]));
+                if first && aabb.intersects(&self.boxes[s as usize]) {
+                    f(s);
                 }
             }
         }
     }
+}
 
-    fn for_cells(&mut self, r: [[usize; 2]; 3], mut f: impl FnMut(&mut Self, usize)) {
-        for z in r[2][0]..=r[2][1] {
-            for y in r[1][0]..=r[1][1] {
-                for x in r[0][0]..=r[0][1] {
-                    let c = (z * self.dims[1] + y) * self.dims[0] + x;
-                    f(self, c);
-                }
-            }
-        }
-    }
+/// The cells of range `r` (inclusive per axis) of a grid of `dims` cells:
+/// (cell index, cell coordinates).
+fn cells_of(dims: [usize; 3], r: [[usize; 2]; 3]) -> impl Iterator<Item = (usize, [usize; 3])> {
+    (r[2][0]..=r[2][1]).flat_map(move |z| {
+        (r[1][0]..=r[1][1]).flat_map(move |y| {
+            (r[0][0]..=r[0][1]).map(move |x| ((z * dims[1] + y) * dims[0] + x, [x, y, z]))
+        })
+    })
 }
 
 /// The bulk sweep replaces one broad-phase query per swept collider when at

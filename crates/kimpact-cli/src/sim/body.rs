@@ -182,10 +182,8 @@ pub(super) fn run(
             crate::scene::Shape::Box { .. } => None,
         })
         .collect();
-    let centre = |world: &PhysicsWorld, h: &RigidBodyHandle| -> super::crossing::Point {
-        let x = to_vec(world.bodies[*h].translation());
-        [x[0], x[1], x.get(2).copied().unwrap_or(0.0)]
-    };
+    let centre =
+        |world: &PhysicsWorld, h: &RigidBodyHandle| to_point(world.bodies[*h].translation());
     // Where every body started and ended the step (for the crossing check).
     let mut before: Vec<super::crossing::Point> = handles.iter().map(|h| centre(&world, h)).collect();
     let mut after = before.clone();

@@ -10,6 +10,11 @@ fn to_vec(v: k::math::Vector) -> Vec<f64> {
     vec![v.x as f64, v.y as f64]
 }
 
+/// rapier vector → a point of the crossing check (`z = 0` in 2D).
+fn to_point(v: k::math::Vector) -> super::crossing::Point {
+    [v.x as f64, v.y as f64, 0.0]
+}
+
 /// The collider of a scene shape.
 fn collider(shape: &crate::scene::Shape) -> k::rapier::prelude::ColliderBuilder {
     use k::math::Real;
