@@ -296,13 +296,7 @@ fn gas_bits(mode: Mode) -> Vec<u64> {
     for _ in 0..300 {
         w.step();
     }
-    balls
-        .iter()
-        .flat_map(|&b| {
-            let (p, v) = (w.pos(b), w.vel(b));
-            (0..DIM).flat_map(move |a| [f64::from(p[a]).to_bits(), f64::from(v[a]).to_bits()])
-        })
-        .collect()
+    w.bits(&balls)
 }
 
 #[test]

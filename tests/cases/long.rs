@@ -82,13 +82,7 @@ fn swept_gas_bits(mode: Mode, per_body: bool, steps: usize) -> Vec<u64> {
     for _ in 0..steps {
         w.step();
     }
-    balls
-        .iter()
-        .flat_map(|&b| {
-            let (p, v) = (w.pos(b), w.vel(b));
-            (0..DIM).flat_map(move |a| [f64::from(p[a]).to_bits(), f64::from(v[a]).to_bits()])
-        })
-        .collect()
+    w.bits(&balls)
 }
 
 /// The bulk sweep (a grid of the swept boxes against every leaf of rapier's

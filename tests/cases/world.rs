@@ -85,6 +85,18 @@ impl TestWorld {
         self.world.bodies[b].translation()
     }
 
+    /// Positions and velocities of `balls`, as bits (for bit-for-bit
+    /// comparisons).
+    pub fn bits(&self, balls: &[RigidBodyHandle]) -> Vec<u64> {
+        balls
+            .iter()
+            .flat_map(|&b| {
+                let (p, v) = (self.pos(b), self.vel(b));
+                (0..DIM).flat_map(move |a| [f64::from(p[a]).to_bits(), f64::from(v[a]).to_bits()])
+            })
+            .collect()
+    }
+
     pub fn kinetic(&self) -> f64 {
         self.world
             .bodies

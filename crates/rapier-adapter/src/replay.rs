@@ -765,12 +765,10 @@ impl Replay {
                 sweepers.push((ch, n, aabb));
             }
         }
-        if !self.per_body_sweep
+        let bulk = !self.per_body_sweep
             && sweepers.len() >= BULK_MIN
-            && sweepers.len() * BULK_SHARE >= colliders.len()
-        {
-            self.sweep_in_bulk(k, bodies, colliders, broad_phase, &sweepers, dt);
-        } else {
+            && sweepers.len() * BULK_SHARE >= colliders.len();
+        if !(bulk && self.sweep_in_bulk(k, bodies, colliders, broad_phase, &sweepers, dt)) {
             for &(ch, _, aabb) in &sweepers {
                 self.sweep_query(k, bodies, colliders, broad_phase, ch, aabb, 0.0, dt);
             }
@@ -876,7 +874,9 @@ impl Replay {
     /// looks up the cells it covers, and every overlap of a swept box with a
     /// broad-phase box is taken, sweeper by sweeper, each in collider order
     /// (the order of [`Replay::sweep_query`] too). It finds every pair one
-    /// [`Replay::sweep_query`] each would, and the few such a query misses. One pass over the
+    /// [`Replay::sweep_query`] each would, and the few such a query misses.
+    /// `false`, having done nothing, if the boxes cannot be gridded (the
+    /// caller then sweeps them one query each). One pass over the
     /// colliders replaces a tree descent per swept collider (a third of an
     /// exact step in a gas, where every ball is swept).
     fn sweep_in_bulk(
@@ -887,7 +887,7 @@ impl Replay {
         broad_phase: &BroadPhaseBvh,
         sweepers: &[(ColliderHandle, usize, Aabb)],
         dt: Real,
-    ) {
+    ) -> bool {
         let dispatcher = crate::rapier::parry::query::DefaultQueryDispatcher;
         let tree = broad_phase
             .as_query_pipeline(&dispatcher, bodies, colliders, QueryFilter::default())
@@ -895,10 +895,7 @@ impl Replay {
         let mut grid = std::mem::take(&mut self.grid);
         if !grid.build(sweepers.iter().map(|x| x.2)) {
             self.grid = grid;
-            for &(ch, _, aabb) in sweepers {
-                self.sweep_query(k, bodies, colliders, broad_phase, ch, aabb, 0.0, dt);
-            }
-            return;
+            return false;
         }
         let mut found = std::mem::take(&mut self.found);
         found.clear();
@@ -930,6 +927,7 @@ impl Replay {
             self.meet(k, bodies, colliders, ch, other, 0.0, dt);
         }
         self.found = found;
+        true
     }
 
     /// Collider `ch`'s sweep reached collider `other`: if the law governs the
