@@ -189,18 +189,26 @@ pub(crate) struct Replay {
 
 /// A uniform grid of boxes (the swept boxes of the bulk sweep), in
 /// compressed rows: the boxes of cell `c` are
-/// `items[start[c]..start[c + 1]]`. Kept between steps: no allocation in a
-/// steady state.
+/// `items[start[c]..start[c + 1]]`, each stored in every cell it covers
+/// (a lookup reads one contiguous row per cell). Kept between steps: no
+/// allocation in a steady state.
 struct SweepGrid {
     origin: Vector,
     inv_cell: Real,
     dims: [usize; 3],
     start: Vec<u32>,
-    items: Vec<u32>,
-    /// Cell range of each box: (lo, hi) per axis, inclusive.
-    ranges: Vec<[[usize; 2]; 3]>,
-    /// The boxes.
-    boxes: Vec<Aabb>,
+    items: Vec<GridItem>,
+}
+
+/// A box in a [`SweepGrid`] cell.
+#[derive(Copy, Clone, Debug)]
+struct GridItem {
+    /// The box's number in the order it was given to [`SweepGrid::build`].
+    index: u32,
+    /// The first cell it covers, per axis: a box and a query meet in
+    /// several cells, and are reported in the first of them only.
+    low: [u32; 3],
+    aabb: Aabb,
 }
 
 impl Default for SweepGrid {
@@ -211,8 +219,6 @@ impl Default for SweepGrid {
             dims: [1; 3],
             start: Vec::new(),
             items: Vec::new(),
-            ranges: Vec::new(),
-            boxes: Vec::new(),
         }
     }
 }
@@ -262,12 +268,8 @@ impl SweepGrid {
         let cells: usize = self.dims.iter().product();
         self.start.clear();
         self.start.resize(cells + 1, 0);
-        self.ranges.clear();
-        self.boxes.clear();
         for b in boxes.clone() {
             let r = self.range(&b).expect("a box inside the grid");
-            self.ranges.push(r);
-            self.boxes.push(b);
             for (c, _) in cells_of(self.dims, r) {
                 self.start[c + 1] += 1;
             }
@@ -275,19 +277,29 @@ impl SweepGrid {
         for c in 0..cells {
             self.start[c + 1] += self.start[c];
         }
+        let placeholder = GridItem {
+            index: 0,
+            low: [0; 3],
+            aabb: Aabb::new_invalid(),
+        };
         self.items.clear();
-        self.items.resize(self.start[cells] as usize, 0);
-        // Fill from the back of each cell's row (`start` ends up as the
-        // first item of each cell again).
-        for i in (0..self.ranges.len()).rev() {
-            for (c, _) in cells_of(self.dims, self.ranges[i]) {
-                self.start[c + 1] -= 1;
-                self.items[self.start[c + 1] as usize] = i as u32;
+        self.items.resize(self.start[cells] as usize, placeholder);
+        // Fill each cell's row from its front (`start[c + 1]` is the next
+        // free slot of cell c, and ends as the start of cell c + 1).
+        self.start.rotate_right(1);
+        self.start[0] = 0;
+        for (i, b) in boxes.enumerate() {
+            let r = self.range(&b).expect("a box inside the grid");
+            let item = GridItem {
+                index: i as u32,
+                low: [r[0][0] as u32, r[1][0] as u32, r[2][0] as u32],
+                aabb: b,
+            };
+            for (c, _) in cells_of(self.dims, r) {
+                self.items[self.start[c + 1] as usize] = item;
+                self.start[c + 1] += 1;
             }
         }
-        // `start[c + 1]` now holds the first item of cell c: shift back.
-        self.start.rotate_left(1);
-        self.start[cells] = self.items.len() as u32;
         true
     }
 
@@ -315,12 +327,11 @@ impl SweepGrid {
     fn overlaps(&self, aabb: &Aabb, mut f: impl FnMut(u32)) {
         let Some(r) = self.range(aabb) else { return };
         for (c, at) in cells_of(self.dims, r) {
-            for &s in &self.items[self.start[c] as usize..self.start[c + 1] as usize] {
+            for item in &self.items[self.start[c] as usize..self.start[c + 1] as usize] {
                 // Once: in the first cell both cover.
-                let sr = self.ranges[s as usize];
-                let first = (0..3).all(|k| at[k] == r[k][0].max(sr[k][0]));
-                if first && aabb.intersects(&self.boxes[s as usize]) {
-                    f(s);
+                let first = (0..3).all(|k| at[k] == r[k][0].max(item.low[k] as usize));
+                if first && aabb.intersects(&item.aabb) {
+                    f(item.index);
                 }
             }
         }
@@ -911,7 +922,13 @@ impl Replay {
                 return TraversalAction::Continue;
             }
             if let Some(index) = node.leaf_data() {
-                grid.overlaps(&node.aabb(), |s| found.push((s, index)));
+                grid.overlaps(&node.aabb(), |s| {
+                    // Not a sweeper's own box (`meet` would drop it, after
+                    // the sort: in a gas, most of the boxes found).
+                    if sweepers[s as usize].0.into_raw_parts().0 != index {
+                        found.push((s, index));
+                    }
+                });
             }
             TraversalAction::Prune
         });
