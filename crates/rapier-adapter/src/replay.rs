@@ -188,10 +188,12 @@ pub(crate) struct Replay {
 }
 
 /// A uniform grid of boxes (the swept boxes of the bulk sweep), in
-/// compressed rows: the boxes of cell `c` are
-/// `items[start[c]..start[c + 1]]`, each stored in every cell it covers
-/// (a lookup reads one contiguous row per cell). Kept between steps: no
-/// allocation in a steady state.
+/// compressed rows: each box is stored once, in the cell of its low corner,
+/// and the boxes of cell `c` are `items[start[c]..start[c + 1]]`. Cells are
+/// a quarter larger than the largest box, so a box meeting a query has its
+/// low corner less than one cell (by a fifth of a cell, far more than any
+/// rounding of the cell coordinates) below the query's. Kept between steps:
+/// no allocation in a steady state.
 struct SweepGrid {
     origin: Vector,
     inv_cell: Real,
@@ -205,9 +207,6 @@ struct SweepGrid {
 struct GridItem {
     /// The box's number in the order it was given to [`SweepGrid::build`].
     index: u32,
-    /// The first cell it covers, per axis: a box and a query meet in
-    /// several cells, and are reported in the first of them only.
-    low: [u32; 3],
     aabb: Aabb,
 }
 
@@ -224,12 +223,11 @@ impl Default for SweepGrid {
 }
 
 impl SweepGrid {
-    /// Number of cells along each axis the grid may use per box at most.
-    const CELLS_PER_BOX: usize = 2;
+    /// Cells per box at most (the grid coarsens beyond).
+    const CELLS_PER_BOX: usize = 8;
 
-    /// Grid the boxes: cells as large as the largest box (each box then
-    /// covers at most 2 cells per axis), fewer if that would make more
-    /// than `CELLS_PER_BOX` cells per box.
+    /// Grid the boxes: cells a quarter larger than the largest box, coarser
+    /// if that would make more than `CELLS_PER_BOX` cells per box.
     /// `false` (nothing built) if the boxes span more than the scalar type
     /// can hold.
     fn build(&mut self, boxes: impl Iterator<Item = Aabb> + Clone) -> bool {
@@ -247,7 +245,7 @@ impl SweepGrid {
         if !(extent.is_finite() && largest.is_finite()) {
             return false;
         }
-        let mut cell = largest
+        let mut cell = (1.25 * largest)
             .max(Real::EPSILON * extent.max_element())
             .max(Real::MIN_POSITIVE);
         // Counted in floating point: no overflow whatever the extents.
@@ -259,6 +257,9 @@ impl SweepGrid {
         while count(cell) > (Self::CELLS_PER_BOX * n.max(1)) as f64 {
             cell *= 2.0;
         }
+        if !cell.is_finite() {
+            return false;
+        }
         self.origin = lo;
         self.inv_cell = 1.0 / cell;
         self.dims = [1; 3];
@@ -266,52 +267,57 @@ impl SweepGrid {
             *d = (extent[k] * self.inv_cell) as usize + 1;
         }
         let cells: usize = self.dims.iter().product();
+        // Counting sort of the boxes by the cell of their low corner:
+        // `start[c + 1]` counts cell c, then (prefix sums, shifted by one)
+        // is cell c's next free slot, which ends as the start of cell c + 1.
         self.start.clear();
         self.start.resize(cells + 1, 0);
         for b in boxes.clone() {
-            let r = self.range(&b).expect("a box inside the grid");
-            for (c, _) in cells_of(self.dims, r) {
-                self.start[c + 1] += 1;
-            }
+            let c = self.cell_of(b.mins);
+            self.start[c + 1] += 1;
         }
         for c in 0..cells {
             self.start[c + 1] += self.start[c];
         }
+        self.start.rotate_right(1);
+        self.start[0] = 0;
         let placeholder = GridItem {
             index: 0,
-            low: [0; 3],
             aabb: Aabb::new_invalid(),
         };
         self.items.clear();
-        self.items.resize(self.start[cells] as usize, placeholder);
-        // Fill each cell's row from its front (`start[c + 1]` is the next
-        // free slot of cell c, and ends as the start of cell c + 1).
-        self.start.rotate_right(1);
-        self.start[0] = 0;
+        self.items.resize(n, placeholder);
         for (i, b) in boxes.enumerate() {
-            let r = self.range(&b).expect("a box inside the grid");
-            let item = GridItem {
+            let c = self.cell_of(b.mins);
+            self.items[self.start[c + 1] as usize] = GridItem {
                 index: i as u32,
-                low: [r[0][0] as u32, r[1][0] as u32, r[2][0] as u32],
                 aabb: b,
             };
-            for (c, _) in cells_of(self.dims, r) {
-                self.items[self.start[c + 1] as usize] = item;
-                self.start[c + 1] += 1;
-            }
+            self.start[c + 1] += 1;
         }
         true
     }
 
-    /// The cells a box covers, clamped to the grid; `None` if it misses the
-    /// grid (or is not finite).
+    /// The cell of a point inside the grid's extent.
+    fn cell_of(&self, p: Vector) -> usize {
+        let mut c = 0;
+        for k in (0..DIM).rev() {
+            let x = ((p[k] - self.origin[k]) * self.inv_cell) as usize;
+            c = c * self.dims[k] + x.min(self.dims[k] - 1);
+        }
+        c
+    }
+
+    /// The cells whose boxes may meet `b` (their low corners lie between
+    /// one cell below `b`'s and `b`'s high corner), clamped to the grid;
+    /// `None` if there are none (or `b` is not finite).
     fn range(&self, b: &Aabb) -> Option<[[usize; 2]; 3]> {
         let mut r = [[0, 0]; 3];
         for (k, rk) in r.iter_mut().enumerate().take(DIM) {
-            let lo = (b.mins[k] - self.origin[k]) * self.inv_cell;
+            let lo = (b.mins[k] - self.origin[k]) * self.inv_cell - 1.0;
             let hi = (b.maxs[k] - self.origin[k]) * self.inv_cell;
             let last = (self.dims[k] - 1) as Real;
-            if !(hi >= 0.0 && lo <= last + 1.0) {
+            if !(hi >= 0.0 && lo < last + 1.0) {
                 return None;
             }
             *rk = [
@@ -326,26 +332,19 @@ impl SweepGrid {
     /// no particular order.
     fn overlaps(&self, aabb: &Aabb, mut f: impl FnMut(u32)) {
         let Some(r) = self.range(aabb) else { return };
-        for (c, at) in cells_of(self.dims, r) {
-            for item in &self.items[self.start[c] as usize..self.start[c + 1] as usize] {
-                // Once: in the first cell both cover.
-                let first = (0..3).all(|k| at[k] == r[k][0].max(item.low[k] as usize));
-                if first && aabb.intersects(&item.aabb) {
-                    f(item.index);
+        for z in r[2][0]..=r[2][1] {
+            for y in r[1][0]..=r[1][1] {
+                // A row of cells along x is one run of items.
+                let row = (z * self.dims[1] + y) * self.dims[0];
+                let (from, to) = (row + r[0][0], row + r[0][1]);
+                for item in &self.items[self.start[from] as usize..self.start[to + 1] as usize] {
+                    if aabb.intersects(&item.aabb) {
+                        f(item.index);
+                    }
                 }
             }
         }
     }
-}
-
-/// The cells of range `r` (inclusive per axis) of a grid of `dims` cells:
-/// (cell index, cell coordinates).
-fn cells_of(dims: [usize; 3], r: [[usize; 2]; 3]) -> impl Iterator<Item = (usize, [usize; 3])> {
-    (r[2][0]..=r[2][1]).flat_map(move |z| {
-        (r[1][0]..=r[1][1]).flat_map(move |y| {
-            (r[0][0]..=r[0][1]).map(move |x| ((z * dims[1] + y) * dims[0] + x, [x, y, z]))
-        })
-    })
 }
 
 /// The bulk sweep replaces one broad-phase query per swept collider when at
@@ -1304,6 +1303,39 @@ mod tests {
             brute.sort_unstable();
             assert!(brute.len() > 300, "size {size}: {} overlaps", brute.len());
             assert_eq!(found, brute, "size {size}");
+        }
+    }
+
+    /// Boxes that only touch a query (a shared face or corner: `intersects`
+    /// counts them) are found too, far from the grid's origin and at the
+    /// largest box size, where a box's low corner lies a whole box below
+    /// the query's.
+    #[test]
+    fn the_sweep_grid_finds_boxes_that_only_touch() {
+        let size = 0.5;
+        let base = Vector::splat(1000.0);
+        let at = |i: usize| -> Vector {
+            let mut p = base;
+            for k in 0..DIM {
+                p[k] += size * ((i >> (4 * k)) % 16) as Real;
+            }
+            p
+        };
+        // A lattice of boxes, each touching its neighbours.
+        let boxes: Vec<Aabb> = (0..1 << (4 * DIM))
+            .map(|i| Aabb::new(at(i), at(i) + Vector::splat(size)))
+            .collect();
+        let mut grid = SweepGrid::default();
+        assert!(grid.build(boxes.iter().copied()));
+        for (q, query) in boxes.iter().enumerate().step_by(7) {
+            let mut found = Vec::new();
+            grid.overlaps(query, |s| found.push(s));
+            found.sort_unstable();
+            let brute: Vec<u32> = (0..boxes.len() as u32)
+                .filter(|&s| query.intersects(&boxes[s as usize]))
+                .collect();
+            assert!(brute.len() > 1, "box {q} touches its neighbours");
+            assert_eq!(found, brute, "box {q}");
         }
     }
 
