@@ -120,7 +120,7 @@ pub(crate) fn cast(
 /// otherwise, as parry's cast (which this replaces, for speed: no shape
 /// dispatch).
 #[allow(clippy::too_many_arguments)]
-fn ball_ball(
+pub(crate) fn ball_ball(
     c1: Vector,
     v1: Vector,
     r1: Real,
@@ -158,11 +158,11 @@ fn ball_ball(
     }
     let a = w.length_squared();
     let delta = b * b - a * c;
-    if !(delta >= 0.0) {
+    if delta.is_nan() || delta < 0.0 {
         return None; // the paths pass each other
     }
     let t = c / (-b + delta.sqrt());
-    if !(t <= window) {
+    if t.is_nan() || t > window {
         return None;
     }
     hit(t, p + w * t)
