@@ -687,9 +687,7 @@ fn the_documented_example_is_a_valid_scene() {
 #[test]
 fn fast_balls_never_sink_a_radius_into_another_body_in_any_mode() {
     for name in ["billiards2d.ron", "masses1000_2d.json", "pachinko2d.toml"] {
-        let path = scene(name);
-        for mode in ["native", "restitution", "impulse", "exact"] {
-            let r = report(&["run", path.to_str().unwrap(), "--mode", mode]);
+        in_every_mode(&scene(name), None, |mode, r| {
             assert!(
                 r["setup"]["ccd_bodies"].as_u64().unwrap() > 0,
                 "{name}: fast balls get CCD"
@@ -699,13 +697,28 @@ fn fast_balls_never_sink_a_radius_into_another_body_in_any_mode() {
                 ratio < 1.0,
                 "{name} {mode}: a contact sank {ratio} radii deep"
             );
-            let escaped = &r["checks"]["escaped"];
-            assert!(
-                escaped.is_null() || escaped == 0,
-                "{name} {mode}: {escaped} bodies escaped"
-            );
-            assert_eq!(r["checks"]["non_finite"], 0, "{name} {mode}");
+        });
+    }
+}
+
+/// Run `path` (`steps` of it, or all) in each of the four modes, check that
+/// no body left the walls and nothing became non-finite, then `check` the
+/// report.
+fn in_every_mode(path: &Path, steps: Option<&str>, mut check: impl FnMut(&str, &Value)) {
+    let name = path.file_name().unwrap().to_string_lossy();
+    for mode in ["native", "restitution", "impulse", "exact"] {
+        let mut args = vec!["run", path.to_str().unwrap(), "--mode", mode];
+        if let Some(n) = steps {
+            args.extend(["--steps", n]);
         }
+        let r = report(&args);
+        let escaped = &r["checks"]["escaped"];
+        assert!(
+            escaped.is_null() || escaped == 0,
+            "{name} {mode}: {escaped} bodies escaped"
+        );
+        assert_eq!(r["checks"]["non_finite"], 0, "{name} {mode}");
+        check(mode, &r);
     }
 }
 
@@ -769,20 +782,9 @@ fn no_ball_passes_through_another_in_any_mode() {
             "ballpit3d.toml" => Some("90"),
             _ => None,
         };
-        for mode in ["native", "restitution", "impulse", "exact"] {
-            let mut args = vec!["run", path.to_str().unwrap(), "--mode", mode];
-            if let Some(n) = steps {
-                args.extend(["--steps", n]);
-            }
-            let r = report(&args);
+        in_every_mode(&path, steps, |mode, r| {
             assert_eq!(r["checks"]["crossings"], 0, "{name} {mode}");
-            let escaped = &r["checks"]["escaped"];
-            assert!(
-                escaped.is_null() || escaped == 0,
-                "{name} {mode}: {escaped} bodies escaped"
-            );
-            assert_eq!(r["checks"]["non_finite"], 0, "{name} {mode}");
-        }
+        });
     }
 }
 

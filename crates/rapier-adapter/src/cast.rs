@@ -275,6 +275,72 @@ mod tests {
             .dist
     }
 
+    /// Points checked along a path.
+    const SAMPLES: usize = 200;
+
+    /// A cast's time checked along the path, whose gap (negative: overlap)
+    /// at time `t` is `gap(t)`: a hit after the start touches there and
+    /// never overlaps before; a hit at the start starts touching; no hit,
+    /// for a pair that starts further apart than `clear`, keeps clear over
+    /// the whole window.
+    fn first_touch(
+        hit: Option<Real>,
+        gap: impl Fn(Real) -> Real,
+        window: Real,
+        tol: Real,
+        clear: Real,
+    ) -> Result<(), TestCaseError> {
+        match hit {
+            Some(t) => {
+                prop_assert!((0.0..=window).contains(&t), "t = {t}");
+                if t > 0.0 {
+                    prop_assert!(gap(t).abs() <= tol, "gap {} at t = {t}", gap(t));
+                    for i in 0..SAMPLES {
+                        let s = t * i as Real / SAMPLES as Real;
+                        prop_assert!(gap(s) >= -tol, "overlap {} at {s} < t = {t}", gap(s));
+                    }
+                } else {
+                    prop_assert!(gap(0.0) <= tol, "hit at 0 but apart: {}", gap(0.0));
+                }
+            }
+            None if gap(0.0) > clear => {
+                for i in 0..=SAMPLES {
+                    let s = window * i as Real / SAMPLES as Real;
+                    prop_assert!(gap(s) >= -tol, "missed: overlap {} at {s}", gap(s));
+                }
+            }
+            None => {}
+        }
+        Ok(())
+    }
+
+    /// The smallest gap over the window: near zero, a graze, where two
+    /// correct casts may disagree.
+    fn min_gap(gap: impl Fn(Real) -> Real, window: Real) -> Real {
+        (0..=SAMPLES)
+            .map(|i| gap(window * i as Real / SAMPLES as Real))
+            .fold(Real::INFINITY, Real::min)
+    }
+
+    /// parry's cast of the same pair (the reference away from grazes).
+    fn parry_cast(
+        pos1: &Pose,
+        v1: Vector,
+        s1: &dyn Shape,
+        pos2: &Pose,
+        v2: Vector,
+        s2: &dyn Shape,
+        window: Real,
+    ) -> Option<crate::rapier::parry::query::ShapeCastHit> {
+        let options = ShapeCastOptions {
+            max_time_of_impact: window,
+            target_distance: 0.0,
+            stop_at_penetration: false,
+            compute_impact_geometry_on_penetration: true,
+        };
+        cast_shapes(pos1, v1, s1, pos2, v2, s2, options).unwrap()
+    }
+
     proptest! {
         // A fixed seed: CI and a local run try the same 2,000 cases (failures
         // found before are replayed first from proptest-regressions/cast.txt).
@@ -308,51 +374,28 @@ mod tests {
             let tol = 1e-3 * radius.max(1.0);
             // Along the path relative to the box (the box stays put).
             let at = |t: Real| gap(centre + w * t, radius, &box_pose, &cuboid);
-            let samples = 200;
             let mine = cast(&ball_pose, v_ball, &ball, &box_pose, v_box, &cuboid, window, false)
                 .expect("supported");
+            first_touch(mine.map(|h| h.0), at, window, tol, tol)?;
             match mine {
                 Some((t, normal, _)) => {
-                    prop_assert!((0.0..=window).contains(&t), "t = {t}");
                     prop_assert!((normal.length() - 1.0).abs() < 1e-3);
-                    if t > 0.0 {
-                        prop_assert!(at(t).abs() <= tol, "gap {} at t = {t}", at(t));
-                        for i in 0..samples {
-                            let s = t * i as Real / samples as Real;
-                            prop_assert!(at(s) >= -tol, "overlap {} at {s} < t = {t}", at(s));
-                        }
-                    } else {
-                        prop_assert!(at(0.0) <= tol, "hit at 0 but apart: {}", at(0.0));
+                    if t == 0.0 {
                         // Approaching: the normal (ball towards box) along w.
                         prop_assert!(w.dot(normal) > 0.0);
                     }
                 }
-                None => {
-                    if at(0.0) > tol {
-                        for i in 0..=samples {
-                            let s = window * i as Real / samples as Real;
-                            prop_assert!(at(s) >= -tol, "missed: overlap {} at {s}", at(s));
-                        }
-                    } else {
-                        // Leaving an overlap (or a touch): the gap grows.
-                        let s = window * 1e-3;
-                        prop_assert!(at(s) >= at(0.0) - tol * 1e-2, "{} -> {}", at(0.0), at(s));
-                    }
+                None if at(0.0) <= tol => {
+                    // Leaving an overlap (or a touch): the gap grows.
+                    let s = window * 1e-3;
+                    prop_assert!(at(s) >= at(0.0) - tol * 1e-2, "{} -> {}", at(0.0), at(s));
                 }
+                None => {}
             }
             // Agreement with parry's cast away from grazes.
-            let min_gap = (0..=samples)
-                .map(|i| at(window * i as Real / samples as Real))
-                .fold(Real::INFINITY, Real::min);
-            if at(0.0) > tol && (min_gap < -0.05 * radius || min_gap > 0.05 * radius) {
-                let options = ShapeCastOptions {
-                    max_time_of_impact: window,
-                    target_distance: 0.0,
-                    stop_at_penetration: false,
-                    compute_impact_geometry_on_penetration: true,
-                };
-                let parry = cast_shapes(&ball_pose, v_ball, &ball, &box_pose, v_box, &cuboid, options)
-                    .unwrap();
+            let min = min_gap(at, window);
+            if at(0.0) > tol && (min < -0.05 * radius || min > 0.05 * radius) {
+                let parry = parry_cast(&ball_pose, v_ball, &ball, &box_pose, v_box, &cuboid, window);
                 prop_assert_eq!(mine.is_some(), parry.is_some(), "mine {:?} parry {:?}", mine, parry);
                 if let (Some((t, n, _)), Some(p)) = (mine, parry) {
                     // parry's GJK stops within a small distance of the touch
@@ -385,47 +428,25 @@ mod tests {
             let tol = 1e-4 * reach.max(1.0);
             let gap = |t: Real| ((c2 + v2 * t) - (c1 + v1 * t)).length() - reach;
             let mine = cast(&pos1, v1, &b1, &pos2, v2, &b2, window, false).expect("supported");
-            let samples = 200;
+            first_touch(mine.map(|h| h.0), gap, window, tol, 0.0)?;
             match mine {
                 Some((t, n, point)) => {
-                    prop_assert!((0.0..=window).contains(&t), "t = {t}");
                     prop_assert!((n.length() - 1.0).abs() < 1e-4);
                     prop_assert!(((point - c1).length() - r1).abs() <= tol);
-                    if t > 0.0 {
-                        prop_assert!(gap(t).abs() <= tol, "gap {} at t = {t}", gap(t));
-                        for i in 0..samples {
-                            let s = t * i as Real / samples as Real;
-                            prop_assert!(gap(s) >= -tol, "overlap {} at {s} < t = {t}", gap(s));
-                        }
-                    } else {
-                        prop_assert!(gap(0.0) <= tol);
+                    if t == 0.0 {
                         prop_assert!((v2 - v1).dot(n) < 0.0, "a hit at 0 approaches");
                     }
                 }
-                None => {
-                    if gap(0.0) > 0.0 {
-                        for i in 0..=samples {
-                            let s = window * i as Real / samples as Real;
-                            prop_assert!(gap(s) >= -tol, "missed: overlap {} at {s}", gap(s));
-                        }
-                    } else {
-                        prop_assert!((v2 - v1).dot(c2 - c1) >= 0.0, "an overlap that closes is a hit");
-                    }
+                None if gap(0.0) <= 0.0 => {
+                    prop_assert!((v2 - v1).dot(c2 - c1) >= 0.0, "an overlap that closes is a hit");
                 }
+                None => {}
             }
             // parry's cast agrees away from grazes (its root loses digits
             // there).
-            let min_gap = (0..=samples)
-                .map(|i| gap(window * i as Real / samples as Real))
-                .fold(Real::INFINITY, Real::min);
-            if min_gap < -0.05 * reach || min_gap > 0.05 * reach {
-                let options = ShapeCastOptions {
-                    max_time_of_impact: window,
-                    target_distance: 0.0,
-                    stop_at_penetration: false,
-                    compute_impact_geometry_on_penetration: true,
-                };
-                let parry = cast_shapes(&pos1, v1, &b1, &pos2, v2, &b2, options).unwrap();
+            let min = min_gap(gap, window);
+            if min < -0.05 * reach || min > 0.05 * reach {
+                let parry = parry_cast(&pos1, v1, &b1, &pos2, v2, &b2, window);
                 prop_assert_eq!(mine.is_some(), parry.is_some(), "mine {:?} parry {:?}", mine, parry);
                 if let (Some((t, n, _)), Some(p)) = (mine, parry) {
                     let apart = (t - p.time_of_impact).abs() * (v2 - v1).length();
