@@ -212,13 +212,6 @@ impl PairQueue {
     }
 }
 
-/// A meeting taken from the queue: when, the normal, the point.
-struct Meeting {
-    t: Real,
-    normal: Vector,
-    point: Vector,
-}
-
 /// Before the step, how far past its end (relative to `dt`) a meeting is
 /// still taken in this step.
 pub(crate) const PRE_HORIZON: Real = 1e-3;
@@ -1035,9 +1028,9 @@ impl Replay {
 
     /// The sweep of many colliders at once: the swept boxes go in a uniform
     /// grid, every box of rapier's broad phase (the leaves its queries test)
-    /// looks up the cells it covers, and every overlap of a swept box with a
-    /// broad-phase box is taken, sweeper by sweeper, each in collider order
-    /// (the order of [`Replay::sweep_query`] too). It finds every pair one
+    /// looks up the cells whose boxes may meet it, and every overlap of a
+    /// swept box with a broad-phase box is taken, sweeper by sweeper, each
+    /// in collider order (the order of [`Replay::sweep_query`] too). It finds every pair one
     /// [`Replay::sweep_query`] each would, and the few such a query misses.
     /// `false`, having done nothing, if the boxes cannot be gridded (the
     /// caller then sweeps them one query each). One pass over the
@@ -1064,9 +1057,10 @@ impl Replay {
         let mut found = std::mem::take(&mut self.found);
         found.clear();
         // Every leaf of rapier's tree, depth first (its memory order): a
-        // leaf's box looks up the cells it covers. Not pruned by the inner
-        // nodes' boxes: between steps some do not enclose the leaves below
-        // them (rapier refits the ancestors of moved leaves lazily), so a
+        // leaf's box looks up the cells whose boxes may meet it. Not pruned
+        // by the inner nodes' boxes: between steps some do not enclose the
+        // leaves below them (rapier refits the ancestors of moved leaves
+        // lazily), so a
         // query descending from the root can miss a collider whose own box
         // meets the query's (measured: 2 to 11 of 400 to 870 pairs per step
         // in a falling pile of 300 balls).
@@ -1300,11 +1294,6 @@ impl Replay {
         let mut events = 0usize;
         while let Some((t, i)) = self.queue.pop() {
             let pair = self.pairs[i];
-            let e = Meeting {
-                t,
-                normal: pair.normal,
-                point: pair.point,
-            };
             let (na, nb) = (self.nodes[pair.a], self.nodes[pair.b]);
             if events >= max_events {
                 k.count_cap_hit();
@@ -1326,7 +1315,7 @@ impl Replay {
             // is what keeps a bouncing ball from gaining `m g dt` of
             // momentum, and energy, at every bounce.
             let at = |n: &Node| match self.phase {
-                Phase::Post => n.u - n.g_dt * ((dt - e.t) / dt),
+                Phase::Post => n.u - n.g_dt * ((dt - t) / dt),
                 Phase::Pre => n.u,
             };
             let la = LawBody {
@@ -1340,8 +1329,8 @@ impl Replay {
             let candidate = Candidate {
                 collider1: pair.c1,
                 collider2: pair.c2,
-                normal: e.normal,
-                point: e.point,
+                normal: pair.normal,
+                point: pair.point,
                 dist: 0.0,
                 start1: la,
                 start2: lb,
@@ -1350,7 +1339,7 @@ impl Replay {
                 k.skip(&candidate);
                 continue;
             };
-            let Some(impact) = k.law_ref().resolve_unit(&ba, &bb, &to_law(e.normal)) else {
+            let Some(impact) = k.law_ref().resolve_unit(&ba, &bb, &to_law(pair.normal)) else {
                 continue;
             };
             // A resting contact (rapier's), or an approach at rounding level
@@ -1372,18 +1361,18 @@ impl Replay {
                 // rapier will move the body with its new velocity from the
                 // start of the step: predict along that line.
                 if self.phase == Phase::Post {
-                    node.p = node.at(e.t);
-                    node.t_ref = e.t;
+                    node.p = node.at(t);
+                    node.t_ref = t;
                 }
                 let dv = from_law(&dv);
                 node.v += dv;
                 node.u += dv;
                 node.hit = true;
             }
-            k.push_event(&candidate, e.t, e.point, &impact, false);
+            k.push_event(&candidate, t, pair.point, &impact, false);
             // Chains: neighbours of both bodies, then fresh predictions for
             // every pair of the two bodies from now on.
-            let from = e.t.max(0.0);
+            let from = t.max(0.0);
             for n in [pair.a, pair.b] {
                 if self.nodes[n].dynamic {
                     self.expand(k, bodies, colliders, narrow_phase, n, from, dt);
