@@ -281,6 +281,10 @@ pub(crate) struct Replay {
     grid: SweepGrid,
     /// Scratch of the bulk sweep: (sweeper, collider index) pairs found.
     found: Vec<(u32, u32)>,
+    /// Scratch of the bulk sweep, by collider index: the stamp of the run
+    /// in which the collider is a sweeper (its pairs with other sweepers
+    /// come from the grid alone).
+    sweeping: Vec<u32>,
     /// Scratch of a single sweep: the collider indices it met.
     met: Vec<u32>,
     /// Never sweep in bulk (tests compare both ways).
@@ -428,9 +432,9 @@ impl SweepGrid {
         Some(r)
     }
 
-    /// Call `f` once with the index of every box that meets `aabb`, in
-    /// no particular order.
-    fn overlaps(&self, aabb: &Aabb, mut f: impl FnMut(u32)) {
+    /// Call `f` once with the index of every box numbered above `after`
+    /// (all of them with `None`) that meets `aabb`, in no particular order.
+    fn overlaps(&self, aabb: &Aabb, after: Option<u32>, mut f: impl FnMut(u32)) {
         let Some(r) = self.range(aabb) else { return };
         for z in r[2][0]..=r[2][1] {
             for y in r[1][0]..=r[1][1] {
@@ -438,7 +442,7 @@ impl SweepGrid {
                 let row = (z * self.dims[1] + y) * self.dims[0];
                 let (from, to) = (row + r[0][0], row + r[0][1]);
                 for item in &self.items[self.start[from] as usize..self.start[to + 1] as usize] {
-                    if aabb.intersects(&item.aabb) {
+                    if after.is_none_or(|a| item.index > a) && aabb.intersects(&item.aabb) {
                         f(item.index);
                     }
                 }
@@ -476,6 +480,7 @@ impl Replay {
             // Wrapped: forget every old stamp.
             self.body_slots.clear();
             self.collider_slots.clear();
+            self.sweeping.clear();
             self.stamp = 1;
         }
         self.pairs.clear();
@@ -936,8 +941,14 @@ impl Replay {
     ) -> Option<Aabb> {
         let co = colliders.get(ch)?;
         let moved = self.nodes[n].v * (dt - from);
-        let aabb = co.compute_aabb();
-        let half = 0.5 * (aabb.maxs - aabb.mins).min_element();
+        let ball = co.shape().as_ball();
+        let half = match ball {
+            Some(ball) => ball.radius,
+            None => {
+                let aabb = co.compute_aabb();
+                0.5 * (aabb.maxs - aabb.mins).min_element()
+            }
+        };
         if moved.length() <= half.min(self.sweep_reach) {
             return None;
         }
@@ -945,13 +956,26 @@ impl Replay {
             Phase::Pre => 2.0 * moved.length(),
             Phase::Post => 0.0,
         };
-        let start = self.pose(bodies, colliders, n, ch, from)?;
-        let end = self.pose(bodies, colliders, n, ch, dt)?;
-        let swept = co
-            .shape()
-            .compute_aabb(&start)
-            .merged(&co.shape().compute_aabb(&end))
-            .loosened(grow);
+        let node = &self.nodes[n];
+        let rest = rest_pose(bodies, co);
+        let swept = match ball {
+            // A ball's box is its centre ± its radius, as parry's.
+            Some(ball) => {
+                let r = Vector::splat(ball.radius);
+                let start = rest.translation + (node.at(from) - node.x1);
+                let end = rest.translation + (node.at(dt) - node.x1);
+                Aabb::new(start.min(end) - r, start.max(end) + r)
+            }
+            None => {
+                let at = |t: Real| {
+                    let mut pose = rest;
+                    pose.translation += node.at(t) - node.x1;
+                    co.shape().compute_aabb(&pose)
+                };
+                at(from).merged(&at(dt))
+            }
+        }
+        .loosened(grow);
         // A box that is not finite (a body the runtime guard cuts off)
         // meets nothing.
         (swept.mins.is_finite() && swept.maxs.is_finite()).then_some(swept)
@@ -1056,30 +1080,41 @@ impl Replay {
         }
         let mut found = std::mem::take(&mut self.found);
         found.clear();
-        // Every leaf of rapier's tree, depth first (its memory order): a
-        // leaf's box looks up the cells whose boxes may meet it. Not pruned
-        // by the inner nodes' boxes: between steps some do not enclose the
-        // leaves below them (rapier refits the ancestors of moved leaves
-        // lazily), so a
-        // query descending from the root can miss a collider whose own box
-        // meets the query's (measured: 2 to 11 of 400 to 870 pairs per step
-        // in a falling pile of 300 balls).
+        // Two sweepers can meet only where their swept boxes do: each such
+        // pair is taken once, from the grid alone, by the sweeper numbered
+        // first (the one that would reach it first in the order below).
+        let mut sweeping = std::mem::take(&mut self.sweeping);
+        for (s, &(ch, _, aabb)) in sweepers.iter().enumerate() {
+            let index = ch.into_raw_parts().0 as usize;
+            if sweeping.len() <= index {
+                sweeping.resize(index + 1, 0);
+            }
+            sweeping[index] = self.stamp;
+            grid.overlaps(&aabb, Some(s as u32), |t| {
+                found.push((s as u32, sweepers[t as usize].0.into_raw_parts().0));
+            });
+        }
+        // Every other leaf of rapier's tree (walls, slow bodies), depth
+        // first (its memory order): a leaf's box looks up the cells whose
+        // boxes may meet it. Not pruned by the inner nodes' boxes: between
+        // steps some do not enclose the leaves below them (rapier refits
+        // the ancestors of moved leaves lazily), so a query descending from
+        // the root can miss a collider whose own box meets the query's
+        // (measured: 2 to 11 of 400 to 870 pairs per step in a falling pile
+        // of 300 balls).
         tree.traverse(|node| {
             if !node.is_leaf() {
                 return TraversalAction::Continue;
             }
-            if let Some(index) = node.leaf_data() {
-                grid.overlaps(&node.aabb(), |s| {
-                    // Not a sweeper's own box (`meet` would drop it, after
-                    // the sort: in a gas, most of the boxes found).
-                    if sweepers[s as usize].0.into_raw_parts().0 != index {
-                        found.push((s, index));
-                    }
-                });
+            if let Some(index) = node.leaf_data()
+                && sweeping.get(index as usize) != Some(&self.stamp)
+            {
+                grid.overlaps(&node.aabb(), None, |s| found.push((s, index)));
             }
             TraversalAction::Prune
         });
         self.grid = grid;
+        self.sweeping = sweeping;
         // Sweeper by sweeper, each in collider order, as one query each
         // would take them.
         found.sort_unstable();
@@ -1433,7 +1468,7 @@ mod tests {
             assert!(grid.build(boxes.iter().copied()));
             let mut found = Vec::new();
             for (q, aabb) in queries.iter().enumerate() {
-                grid.overlaps(aabb, |s| found.push((s, q)));
+                grid.overlaps(aabb, None, |s| found.push((s, q)));
             }
             found.sort_unstable();
             let mut brute = Vec::new();
@@ -1447,6 +1482,27 @@ mod tests {
             brute.sort_unstable();
             assert!(brute.len() > 300, "size {size}: {} overlaps", brute.len());
             assert_eq!(found, brute, "size {size}");
+            // The boxes against each other, as the bulk sweep joins the
+            // sweepers: each overlapping pair once, from its first box.
+            let mut joined = Vec::new();
+            for (s, b) in boxes.iter().enumerate() {
+                grid.overlaps(b, Some(s as u32), |t| joined.push((s as u32, t)));
+            }
+            joined.sort_unstable();
+            let mut brute = Vec::new();
+            for (s, a) in boxes.iter().enumerate() {
+                for (t, b) in boxes.iter().enumerate().skip(s + 1) {
+                    if a.intersects(b) {
+                        brute.push((s as u32, t as u32));
+                    }
+                }
+            }
+            assert!(
+                size < 3.0 || brute.len() > 100,
+                "size {size}: {} pairs",
+                brute.len()
+            );
+            assert_eq!(joined, brute, "size {size}: the join");
         }
     }
 
@@ -1506,7 +1562,7 @@ mod tests {
         assert!(grid.build(boxes.iter().copied()));
         for (q, query) in boxes.iter().enumerate().step_by(7) {
             let mut found = Vec::new();
-            grid.overlaps(query, |s| found.push(s));
+            grid.overlaps(query, None, |s| found.push(s));
             found.sort_unstable();
             let brute: Vec<u32> = (0..boxes.len() as u32)
                 .filter(|&s| query.intersects(&boxes[s as usize]))
