@@ -29,7 +29,7 @@ use std::cmp::Ordering;
 use kimpact::Mass;
 
 use crate::math::{DIM, Pose, Real, Vector, from_law, to_law};
-use crate::rapier::parry::partitioning::TraversalAction;
+use crate::rapier::parry::partitioning::{Bvh, BvhNode, TraversalAction};
 use crate::rapier::prelude::*;
 use crate::resolver::{Candidate, Kimpact, LawBody, checked, governs, law_body};
 
@@ -432,9 +432,72 @@ impl SweepGrid {
         Some(r)
     }
 
-    /// Call `f` once with the index of every box numbered above `after`
-    /// (all of them with `None`) that meets `aabb`, in no particular order.
-    fn overlaps(&self, aabb: &Aabb, after: Option<u32>, mut f: impl FnMut(u32)) {
+    /// Call `f(a, b)` once for every two boxes `a < b` that meet, in no
+    /// particular order. Boxes that meet have low corners less than a box
+    /// (so less than a cell) apart on every axis: their cells are the same
+    /// or neighbours. Each cell is joined with itself and with the
+    /// neighbours after it in memory order (along x, then the three cells
+    /// of each later row it touches), so each pair of cells once.
+    fn self_join(&self, mut f: impl FnMut(u32, u32)) {
+        let [nx, ny, nz] = self.dims;
+        let mut test = |a: &GridItem, b: &GridItem| {
+            if a.aabb.intersects(&b.aabb) {
+                f(a.index.min(b.index), a.index.max(b.index));
+            }
+        };
+        // The items of cells x0..=x1 (clamped) of row (y, z).
+        let run = |x0: usize, x1: usize, y: usize, z: usize| -> &[GridItem] {
+            let row = (z * ny + y) * nx;
+            let (from, to) = (row + x0, row + x1.min(nx - 1));
+            &self.items[self.start[from] as usize..self.start[to + 1] as usize]
+        };
+        // The later rows a row touches: (dy, dz) after (0, 0).
+        let later: &[(isize, isize)] = if DIM == 2 {
+            &[(1, 0)]
+        } else {
+            &[(1, 0), (-1, 1), (0, 1), (1, 1)]
+        };
+        for z in 0..nz {
+            for y in 0..ny {
+                for x in 0..nx {
+                    let here = run(x, x, y, z);
+                    if here.is_empty() {
+                        continue;
+                    }
+                    for (i, a) in here.iter().enumerate() {
+                        for b in &here[i + 1..] {
+                            test(a, b);
+                        }
+                    }
+                    let mut others: [&[GridItem]; 5] = [&[]; 5];
+                    if x + 1 < nx {
+                        others[0] = run(x + 1, x + 1, y, z);
+                    }
+                    for (slot, &(dy, dz)) in others[1..].iter_mut().zip(later) {
+                        let (Some(y2), Some(z2)) =
+                            (y.checked_add_signed(dy), z.checked_add_signed(dz))
+                        else {
+                            continue;
+                        };
+                        if y2 < ny && z2 < nz {
+                            *slot = run(x.saturating_sub(1), x + 1, y2, z2);
+                        }
+                    }
+                    for a in here {
+                        for other in others {
+                            for b in other {
+                                test(a, b);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Call `f` once with the index of every box that meets `aabb`, in
+    /// no particular order.
+    fn overlaps(&self, aabb: &Aabb, mut f: impl FnMut(u32)) {
         let Some(r) = self.range(aabb) else { return };
         for z in r[2][0]..=r[2][1] {
             for y in r[1][0]..=r[1][1] {
@@ -442,12 +505,45 @@ impl SweepGrid {
                 let row = (z * self.dims[1] + y) * self.dims[0];
                 let (from, to) = (row + r[0][0], row + r[0][1]);
                 for item in &self.items[self.start[from] as usize..self.start[to + 1] as usize] {
-                    if after.is_none_or(|a| item.index > a) && aabb.intersects(&item.aabb) {
+                    if aabb.intersects(&item.aabb) {
                         f(item.index);
                     }
                 }
             }
         }
+    }
+}
+
+/// Call `f` with the key (rapier: the collider's index) and the box of every
+/// leaf of `tree`, once each, in no particular order. The keys are looked up
+/// one by one from 0 (rapier's collider indices are dense: no tree descent,
+/// and nothing read for a leaf `f` skips but its index) until every leaf
+/// is seen; keys beyond twice the leaf count (a set that had many colliders
+/// removed) are found by a walk down the tree.
+fn for_each_leaf(tree: &Bvh, mut f: impl FnMut(u32, &BvhNode)) {
+    let leaves = tree.leaf_count();
+    let limit = leaves.saturating_mul(2).saturating_add(64);
+    let mut seen = 0;
+    let mut key = 0;
+    while seen < leaves && key < limit {
+        if let Some(node) = tree.leaf_node(key) {
+            seen += 1;
+            f(key, node);
+        }
+        key += 1;
+    }
+    if seen < leaves {
+        tree.traverse(|node| {
+            if !node.is_leaf() {
+                return TraversalAction::Continue;
+            }
+            if let Some(key) = node.leaf_data()
+                && key >= limit
+            {
+                f(key, node);
+            }
+            TraversalAction::Prune
+        });
     }
 }
 
@@ -1084,34 +1180,28 @@ impl Replay {
         // pair is taken once, from the grid alone, by the sweeper numbered
         // first (the one that would reach it first in the order below).
         let mut sweeping = std::mem::take(&mut self.sweeping);
-        for (s, &(ch, _, aabb)) in sweepers.iter().enumerate() {
+        for &(ch, _, _) in sweepers {
             let index = ch.into_raw_parts().0 as usize;
             if sweeping.len() <= index {
                 sweeping.resize(index + 1, 0);
             }
             sweeping[index] = self.stamp;
-            grid.overlaps(&aabb, Some(s as u32), |t| {
-                found.push((s as u32, sweepers[t as usize].0.into_raw_parts().0));
-            });
         }
-        // Every other leaf of rapier's tree (walls, slow bodies), depth
-        // first (its memory order): a leaf's box looks up the cells whose
-        // boxes may meet it. Not pruned by the inner nodes' boxes: between
-        // steps some do not enclose the leaves below them (rapier refits
-        // the ancestors of moved leaves lazily), so a query descending from
-        // the root can miss a collider whose own box meets the query's
-        // (measured: 2 to 11 of 400 to 870 pairs per step in a falling pile
-        // of 300 balls).
-        tree.traverse(|node| {
-            if !node.is_leaf() {
-                return TraversalAction::Continue;
+        grid.self_join(|s, t| {
+            found.push((s, sweepers[t as usize].0.into_raw_parts().0));
+        });
+        // Every other leaf of rapier's tree (walls, slow bodies): a leaf's
+        // box looks up the cells whose boxes may meet it. Every leaf, not
+        // only those under inner nodes that meet a swept box: between steps
+        // some inner boxes do not enclose the leaves below them (rapier
+        // refits the ancestors of moved leaves lazily), so a query
+        // descending from the root can miss a collider whose own box meets
+        // the query's (measured: 2 to 11 of 400 to 870 pairs per step in a
+        // falling pile of 300 balls).
+        for_each_leaf(tree, |index, node| {
+            if sweeping.get(index as usize) != Some(&self.stamp) {
+                grid.overlaps(&node.aabb(), |s| found.push((s, index)));
             }
-            if let Some(index) = node.leaf_data()
-                && sweeping.get(index as usize) != Some(&self.stamp)
-            {
-                grid.overlaps(&node.aabb(), None, |s| found.push((s, index)));
-            }
-            TraversalAction::Prune
         });
         self.grid = grid;
         self.sweeping = sweeping;
@@ -1468,7 +1558,7 @@ mod tests {
             assert!(grid.build(boxes.iter().copied()));
             let mut found = Vec::new();
             for (q, aabb) in queries.iter().enumerate() {
-                grid.overlaps(aabb, None, |s| found.push((s, q)));
+                grid.overlaps(aabb, |s| found.push((s, q)));
             }
             found.sort_unstable();
             let mut brute = Vec::new();
@@ -1485,9 +1575,7 @@ mod tests {
             // The boxes against each other, as the bulk sweep joins the
             // sweepers: each overlapping pair once, from its first box.
             let mut joined = Vec::new();
-            for (s, b) in boxes.iter().enumerate() {
-                grid.overlaps(b, Some(s as u32), |t| joined.push((s as u32, t)));
-            }
+            grid.self_join(|s, t| joined.push((s, t)));
             joined.sort_unstable();
             let mut brute = Vec::new();
             for (s, a) in boxes.iter().enumerate() {
@@ -1503,6 +1591,43 @@ mod tests {
                 brute.len()
             );
             assert_eq!(joined, brute, "size {size}: the join");
+        }
+    }
+
+    /// Every leaf of a tree is visited once with its own box, whether its
+    /// key is found by the look-up from 0 or, beyond twice the leaf count,
+    /// by the walk down the tree: against the keys inserted, for a tree
+    /// with removed leaves (holes), sparse keys far beyond the leaf count,
+    /// and an empty tree.
+    #[test]
+    fn every_leaf_is_visited_once() {
+        let mut rng = Lcg(3);
+        let mut tree = Bvh::new();
+        let mut visited = Vec::new();
+        for_each_leaf(&tree, |key, _| visited.push(key));
+        assert!(visited.is_empty());
+        let mut keys: Vec<u32> = (0..200).collect();
+        keys.extend([500, 1_000, 77_777]);
+        let boxes: Vec<Aabb> = keys.iter().map(|_| rng.aabb(10.0, 1.0)).collect();
+        for (&key, aabb) in keys.iter().zip(&boxes) {
+            tree.insert(*aabb, key);
+        }
+        for key in (0..200).step_by(3) {
+            tree.remove(key);
+        }
+        let expected: Vec<(u32, Aabb)> = keys
+            .iter()
+            .zip(&boxes)
+            .filter(|(k, _)| **k >= 200 || **k % 3 != 0)
+            .map(|(k, b)| (*k, *b))
+            .collect();
+        let mut visited = Vec::new();
+        for_each_leaf(&tree, |key, node| visited.push((key, node.aabb())));
+        visited.sort_unstable_by_key(|v| v.0);
+        assert_eq!(visited.len(), expected.len());
+        for (v, e) in visited.iter().zip(&expected) {
+            assert_eq!(v.0, e.0);
+            assert!(v.1.contains(&e.1), "leaf {}: its box", e.0);
         }
     }
 
@@ -1562,7 +1687,7 @@ mod tests {
         assert!(grid.build(boxes.iter().copied()));
         for (q, query) in boxes.iter().enumerate().step_by(7) {
             let mut found = Vec::new();
-            grid.overlaps(query, None, |s| found.push(s));
+            grid.overlaps(query, |s| found.push(s));
             found.sort_unstable();
             let brute: Vec<u32> = (0..boxes.len() as u32)
                 .filter(|&s| query.intersects(&boxes[s as usize]))
@@ -1570,6 +1695,19 @@ mod tests {
             assert!(brute.len() > 1, "box {q} touches its neighbours");
             assert_eq!(found, brute, "box {q}");
         }
+        // And against each other, as the bulk sweep joins the sweepers.
+        let mut joined = Vec::new();
+        grid.self_join(|s, t| joined.push((s, t)));
+        joined.sort_unstable();
+        let mut brute = Vec::new();
+        for (s, a) in boxes.iter().enumerate() {
+            for (t, b) in boxes.iter().enumerate().skip(s + 1) {
+                if a.intersects(b) {
+                    brute.push((s as u32, t as u32));
+                }
+            }
+        }
+        assert_eq!(joined, brute, "the join");
     }
 
     /// Boxes further apart than the scalar type can measure are not
