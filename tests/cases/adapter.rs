@@ -496,3 +496,55 @@ fn woken_balls_pass_the_impact_on() {
         );
     }
 }
+
+/// Pairs rapier's narrow phase keeps apart are never given the law, however
+/// fast (the replay's sweeps find every box they pass, sensors and
+/// filtered colliders included): a fast ball passes a fixed sensor and a
+/// disabled wall, and two fast balls pass each other when their collision
+/// groups or their solver groups exclude each other, with their velocities
+/// untouched and no law impact, in every mode.
+#[test]
+fn filtered_pairs_pass_through_each_other_in_every_mode() {
+    let apart = InteractionGroups::new(Group::GROUP_1, Group::GROUP_1, InteractionTestMode::And);
+    let other = InteractionGroups::new(Group::GROUP_2, Group::GROUP_2, InteractionTestMode::And);
+    for case in ["sensor", "disabled wall", "collision groups", "solver groups"] {
+        for mode in Mode::ALL {
+            let mut w = TestWorld::new(mode, 0.0, Vector::ZERO);
+            // 30 m/s at dt = 1/60: five radii per step, swept in every law mode.
+            let (fast, cf) = w.ball(Vector::ZERO, Vector::X * 30.0, 0.1, 1.0);
+            let mut balls = vec![(fast, Vector::X * 30.0)];
+            let mut he = Vector::splat(1.0);
+            he[0] = 0.05;
+            match case {
+                "sensor" => {
+                    let b = w.world.insert_body(RigidBodyBuilder::fixed().translation(Vector::X * 3.0));
+                    w.world.insert_collider(k::math::cuboid(he).sensor(true), Some(b));
+                }
+                "disabled wall" => {
+                    let c = w.wall(Vector::X * 3.0, he);
+                    w.world.colliders[c].set_enabled(false);
+                }
+                _ => {
+                    let (slow, cs) = w.ball(Vector::X * 3.0, Vector::X * -30.0, 0.1, 1.0);
+                    balls.push((slow, Vector::X * -30.0));
+                    for (c, groups) in [(cf, apart), (cs, other)] {
+                        let co = &mut w.world.colliders[c];
+                        if case == "collision groups" {
+                            co.set_collision_groups(groups);
+                        } else {
+                            co.set_solver_groups(groups);
+                        }
+                    }
+                }
+            }
+            for _ in 0..12 {
+                w.step();
+            }
+            assert!(w.pos(fast)[0] > 4.0, "{case}, {mode}: the ball was stopped");
+            for (b, v) in balls {
+                assert_eq!(w.vel(b), v, "{case}, {mode}: a velocity changed");
+            }
+            assert_eq!(w.kimpact.stats().impacts, 0, "{case}, {mode}");
+        }
+    }
+}
