@@ -516,27 +516,34 @@ impl SweepGrid {
 
 /// Whether rapier's solver would let colliders `co1` and `co2` push each
 /// other, as its narrow phase decides it: both enabled, neither a sensor,
-/// their active collision types admitting their bodies' types (either
-/// collider's), and their collision and solver groups admitting each other.
-/// A pair the sweeps find (a swept box meets any box of the broad phase)
-/// gets the law only then. Not applied: a user's `filter_contact_pair` hook
-/// and joints with contacts disabled (documented limits).
-fn interacts(bodies: &RigidBodySet, co1: &Collider, co2: &Collider) -> bool {
+/// their collision and solver groups admitting each other, and their
+/// active collision types (either collider's) admitting their bodies'
+/// types; `dynamic` says whether either body is dynamic, which is all the
+/// default types ask. A pair the sweeps find (a swept box meets any box of
+/// the broad phase) gets the law only then. Not applied: a user's
+/// `filter_contact_pair` hook and joints with contacts disabled
+/// (documented limits).
+fn interacts(bodies: &RigidBodySet, co1: &Collider, co2: &Collider, dynamic: bool) -> bool {
+    if !(co1.is_enabled()
+        && co2.is_enabled()
+        && !co1.is_sensor()
+        && !co2.is_sensor()
+        && co1.collision_groups().test(co2.collision_groups())
+        && co1.solver_groups().test(co2.solver_groups()))
+    {
+        return false;
+    }
+    let (a1, a2) = (co1.active_collision_types(), co2.active_collision_types());
+    if a1 == ActiveCollisionTypes::default() && a2 == ActiveCollisionTypes::default() {
+        return dynamic;
+    }
     let body_type = |co: &Collider| {
         co.parent()
             .and_then(|h| bodies.get(h))
             .map_or(RigidBodyType::Fixed, |rb| rb.body_type())
     };
-    co1.is_enabled()
-        && co2.is_enabled()
-        && !co1.is_sensor()
-        && !co2.is_sensor()
-        && co1.collision_groups().test(co2.collision_groups())
-        && co1.solver_groups().test(co2.solver_groups())
-        && {
-            let (t1, t2) = (body_type(co1), body_type(co2));
-            co1.active_collision_types().test(t1, t2) || co2.active_collision_types().test(t1, t2)
-        }
+    let (t1, t2) = (body_type(co1), body_type(co2));
+    a1.test(t1, t2) || a2.test(t1, t2)
 }
 
 /// Call `f` with the key (rapier: the collider's index) and the box of every
@@ -770,13 +777,11 @@ impl Replay {
         dt: Real,
     ) -> Option<usize> {
         let (co1, co2) = (colliders.get(c1)?, colliders.get(c2)?);
-        if !interacts(bodies, co1, co2) {
-            return None;
-        }
         let (p1, p2) = (co1.parent(), co2.parent());
         let a = self.node(k, bodies, c1, p1, dt);
         let b = self.node(k, bodies, c2, p2, dt);
-        if a == b {
+        let dynamic = self.nodes[a].dynamic || self.nodes[b].dynamic;
+        if a == b || !interacts(bodies, co1, co2, dynamic) {
             return None;
         }
         // Already in (a node has a handful of pairs: a scan beats a set).
