@@ -75,6 +75,14 @@ impl Node {
     fn at(&self, t: Real) -> Vector {
         self.p + self.v * (t - self.t_ref)
     }
+
+    /// `rest`, the pose of one of the node's colliders where the node is
+    /// now (`x1`), carried along the node's path to time `t`.
+    fn moved(&self, rest: Pose, t: Real) -> Pose {
+        let mut pose = rest;
+        pose.translation += self.at(t) - self.x1;
+        pose
+    }
 }
 
 #[derive(Copy, Clone, Debug)]
@@ -880,10 +888,7 @@ impl Replay {
         c: ColliderHandle,
         t: Real,
     ) -> Option<Pose> {
-        let node = &self.nodes[n];
-        let mut pose = rest_pose(bodies, colliders.get(c)?);
-        pose.translation += node.at(t) - node.x1;
-        Some(pose)
+        Some(self.nodes[n].moved(rest_pose(bodies, colliders.get(c)?), t))
     }
 
     /// Collider `c` of node `n`, if it is a ball: its radius and its
@@ -1091,16 +1096,12 @@ impl Replay {
             // A ball's box is its centre ± its radius, as parry's.
             Some(ball) => {
                 let r = Vector::splat(ball.radius);
-                let start = rest.translation + (node.at(from) - node.x1);
-                let end = rest.translation + (node.at(dt) - node.x1);
+                let start = node.moved(rest, from).translation;
+                let end = node.moved(rest, dt).translation;
                 Aabb::new(start.min(end) - r, start.max(end) + r)
             }
             None => {
-                let at = |t: Real| {
-                    let mut pose = rest;
-                    pose.translation += node.at(t) - node.x1;
-                    co.shape().compute_aabb(&pose)
-                };
+                let at = |t: Real| co.shape().compute_aabb(&node.moved(rest, t));
                 at(from).merged(&at(dt))
             }
         }
