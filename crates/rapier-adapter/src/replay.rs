@@ -282,9 +282,18 @@ pub(crate) struct Replay {
     fixed_swaps: Vec<(usize, usize)>,
     /// Each pair's next meeting.
     queue: PairQueue,
-    /// Scratch of the bulk sweep: the colliders to sweep (collider, node,
-    /// swept box).
-    sweepers: Vec<(ColliderHandle, usize, Aabb)>,
+    /// Scratch of the bulk sweep: the colliders to sweep.
+    sweepers: Vec<Sweeper>,
+    /// After the step, pairs of sweepers (numbers into `sweepers`, the
+    /// lower first) whose boxes meet but whose balls do not, on the paths
+    /// they have before any impact: left out of the replay until an impact
+    /// changes the path of either (see [`Replay::bring_deferred`]).
+    deferred: Vec<(u32, u32)>,
+    /// For each node made before the bulk sweep, its range of
+    /// `deferred_by` (emptied once brought in).
+    deferred_range: Vec<(u32, u32)>,
+    /// Indices into `deferred`, grouped by node.
+    deferred_by: Vec<u32>,
     /// Scratch of the bulk sweep: a uniform grid over the swept boxes.
     grid: SweepGrid,
     /// Scratch of the bulk sweep: (sweeper, collider index) pairs found.
@@ -297,6 +306,17 @@ pub(crate) struct Replay {
     met: Vec<u32>,
     /// Never sweep in bulk (tests compare both ways).
     pub(crate) per_body_sweep: bool,
+}
+
+/// A collider the replay sweeps along its node's path this run.
+#[derive(Copy, Clone, Debug)]
+struct Sweeper {
+    collider: ColliderHandle,
+    node: usize,
+    /// The box it sweeps.
+    aabb: Aabb,
+    /// Its radius and centre offset if it is a ball (see [`Pair::balls`]).
+    ball: Option<(Real, Vector)>,
 }
 
 /// A uniform grid of boxes (the swept boxes of the bulk sweep), in
@@ -388,8 +408,12 @@ impl SweepGrid {
             let c = self.cell_of(b.mins);
             self.start[c + 1] += 1;
         }
-        for c in 0..cells {
-            self.start[c + 1] += self.start[c];
+        // The sum runs in a register: `start[c + 1] += start[c]` would
+        // wait on the store of the previous cell at every cell.
+        let mut sum = 0;
+        for s in &mut self.start {
+            sum += *s;
+            *s = sum;
         }
         self.start.rotate_right(1);
         self.start[0] = 0;
@@ -620,6 +644,7 @@ impl Replay {
             self.stamp = 1;
         }
         self.pairs.clear();
+        self.deferred_range.clear();
         for a in &mut self.adjacency {
             a.clear();
         }
@@ -1045,8 +1070,13 @@ impl Replay {
                 continue;
             }
             let n = self.node(k, bodies, ch, Some(handle), dt);
-            if let Some(aabb) = self.swept_aabb(bodies, colliders, ch, n, 0.0, dt) {
-                sweepers.push((ch, n, aabb));
+            if let Some((aabb, ball)) = self.swept_aabb(bodies, colliders, ch, n, 0.0, dt) {
+                sweepers.push(Sweeper {
+                    collider: ch,
+                    node: n,
+                    aabb,
+                    ball,
+                });
                 self.nodes[n].swept = Some((ch, aabb));
             }
         }
@@ -1054,7 +1084,10 @@ impl Replay {
             && sweepers.len() >= BULK_MIN
             && sweepers.len() * BULK_SHARE >= colliders.len();
         if !(bulk && self.sweep_in_bulk(k, bodies, colliders, broad_phase, &sweepers, dt)) {
-            for &(ch, _, aabb) in &sweepers {
+            for &Sweeper {
+                collider: ch, aabb, ..
+            } in &sweepers
+            {
                 self.sweep_query(k, bodies, colliders, broad_phase, ch, aabb, 0.0, dt);
             }
         }
@@ -1063,7 +1096,8 @@ impl Replay {
 
     /// The box collider `ch` of node `n` sweeps from `from` to the end of the
     /// step, if it moves far enough over that time to be swept (more than
-    /// half its size, or more than `sweep_reach`).
+    /// half its size, or more than `sweep_reach`); with it, the collider's
+    /// radius and centre offset if it is a ball (as [`Replay::ball`]).
     fn swept_aabb(
         &self,
         bodies: &RigidBodySet,
@@ -1072,7 +1106,7 @@ impl Replay {
         n: usize,
         from: Real,
         dt: Real,
-    ) -> Option<Aabb> {
+    ) -> Option<(Aabb, Option<(Real, Vector)>)> {
         let co = colliders.get(ch)?;
         let moved = self.nodes[n].v * (dt - from);
         let ball = co.shape().as_ball();
@@ -1108,7 +1142,8 @@ impl Replay {
         .loosened(grow);
         // A box that is not finite (a body the runtime guard cuts off)
         // meets nothing.
-        (swept.mins.is_finite() && swept.maxs.is_finite()).then_some(swept)
+        let ball = ball.map(|ball| (ball.radius, rest.translation - node.x1));
+        (swept.mins.is_finite() && swept.maxs.is_finite()).then_some((swept, ball))
     }
 
     /// Sweep collider `ch` of node `n` along the node's path from `from` to
@@ -1128,7 +1163,7 @@ impl Replay {
         from: Real,
         dt: Real,
     ) {
-        let Some(aabb) = self.swept_aabb(bodies, colliders, ch, n, from, dt) else {
+        let Some((aabb, _)) = self.swept_aabb(bodies, colliders, ch, n, from, dt) else {
             return;
         };
         if let Some((c, covered)) = self.nodes[n].swept
@@ -1196,7 +1231,7 @@ impl Replay {
         bodies: &RigidBodySet,
         colliders: &ColliderSet,
         broad_phase: &BroadPhaseBvh,
-        sweepers: &[(ColliderHandle, usize, Aabb)],
+        sweepers: &[Sweeper],
         dt: Real,
     ) -> bool {
         let dispatcher = crate::rapier::parry::query::DefaultQueryDispatcher;
@@ -1204,7 +1239,7 @@ impl Replay {
             .as_query_pipeline(&dispatcher, bodies, colliders, QueryFilter::default())
             .bvh;
         let mut grid = std::mem::take(&mut self.grid);
-        if !grid.build(sweepers.iter().map(|x| x.2)) {
+        if !grid.build(sweepers.iter().map(|x| x.aabb)) {
             self.grid = grid;
             return false;
         }
@@ -1214,8 +1249,8 @@ impl Replay {
         // pair is taken once, from the grid alone, by the sweeper numbered
         // first (the one that would reach it first in the order below).
         let mut sweeping = std::mem::take(&mut self.sweeping);
-        for &(ch, _, _) in sweepers {
-            let index = ch.into_raw_parts().0 as usize;
+        for sweeper in sweepers {
+            let index = sweeper.collider.into_raw_parts().0 as usize;
             if sweeping.len() <= index {
                 sweeping.resize(index + 1, 0);
             }
@@ -1228,18 +1263,50 @@ impl Replay {
         // grown box meets the other collider's box in rapier's tree (a
         // sweeper whose velocity an impact changes later is swept again
         // against those boxes).
+        //
+        // After the step, a pair of balls that does not meet on the paths
+        // the bodies have now is deferred: its prediction would be "never",
+        // and it matters only once an impact bends either path (most
+        // pairs of a gas: their boxes meet, their balls do not).
         let pre = self.phase == Phase::Pre;
+        let mut deferred = std::mem::take(&mut self.deferred);
+        deferred.clear();
+        let nodes = &self.nodes;
         grid.self_join(|s, t| {
             let (a, b) = (&sweepers[s as usize], &sweepers[t as usize]);
-            let (ka, kb) = (a.0.into_raw_parts().0, b.0.into_raw_parts().0);
+            let (ka, kb) = (a.collider.into_raw_parts().0, b.collider.into_raw_parts().0);
             let meets = |grown: &Aabb, key: u32| {
                 tree.leaf_node(key)
                     .is_some_and(|leaf| grown.intersects(&leaf.aabb()))
             };
-            if !pre || meets(&a.2, kb) || meets(&b.2, ka) {
+            if pre {
+                if meets(&a.aabb, kb) || meets(&b.aabb, ka) {
+                    found.push((s, kb));
+                }
+            } else if let (Some((r1, o1)), Some((r2, o2))) = (a.ball, b.ball) {
+                // The first cast `Replay::predict` would make of the pair.
+                let (na, nb) = (&nodes[a.node], &nodes[b.node]);
+                let hit = crate::cast::ball_ball(
+                    na.at(0.0) + o1,
+                    na.v,
+                    r1,
+                    nb.at(0.0) + o2,
+                    nb.v,
+                    r2,
+                    dt,
+                    false,
+                );
+                if hit.is_some() {
+                    found.push((s, kb));
+                } else {
+                    deferred.push((s, t));
+                }
+            } else {
                 found.push((s, kb));
             }
         });
+        self.group_deferred(&deferred, sweepers);
+        self.deferred = deferred;
         // Every other leaf of rapier's tree (walls, slow bodies): a leaf's
         // box looks up the cells whose boxes may meet it. Every leaf, not
         // only those under inner nodes that meet a swept box: between steps
@@ -1262,11 +1329,65 @@ impl Replay {
             let Some((_, other)) = colliders.get_unknown_gen(index) else {
                 continue;
             };
-            let ch = sweepers[s as usize].0;
+            let ch = sweepers[s as usize].collider;
             self.meet(k, bodies, colliders, ch, other, 0.0, dt);
         }
         self.found = found;
         true
+    }
+
+    /// Group the deferred pairs by node (`deferred_range`, `deferred_by`).
+    fn group_deferred(&mut self, deferred: &[(u32, u32)], sweepers: &[Sweeper]) {
+        let n = self.nodes.len();
+        self.deferred_range.clear();
+        self.deferred_range.resize(n, (0, 0));
+        let ends = |&(s, t): &(u32, u32)| [sweepers[s as usize].node, sweepers[t as usize].node];
+        for pair in deferred {
+            for node in ends(pair) {
+                self.deferred_range[node].1 += 1;
+            }
+        }
+        let mut sum = 0;
+        for range in &mut self.deferred_range {
+            let count = range.1;
+            *range = (sum, sum);
+            sum += count;
+        }
+        self.deferred_by.clear();
+        self.deferred_by.resize(sum as usize, 0);
+        for (i, pair) in deferred.iter().enumerate() {
+            for node in ends(pair) {
+                let range = &mut self.deferred_range[node];
+                self.deferred_by[range.1 as usize] = i as u32;
+                range.1 += 1;
+            }
+        }
+    }
+
+    /// Node `n`'s path is about to bend: bring its deferred pairs into the
+    /// replay (once), to be predicted with the rest of its pairs.
+    #[allow(clippy::too_many_arguments)]
+    fn bring_deferred(
+        &mut self,
+        k: &Kimpact,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        n: usize,
+        from: Real,
+        dt: Real,
+    ) {
+        let Some(&(start, end)) = self.deferred_range.get(n) else {
+            return;
+        };
+        self.deferred_range[n] = (start, start);
+        for j in start..end {
+            let (s, t) = self.deferred[self.deferred_by[j as usize] as usize];
+            let (c1, c2) = (
+                self.sweepers[s as usize].collider,
+                self.sweepers[t as usize].collider,
+            );
+            self.meet(k, bodies, colliders, c1, c2, from, dt);
+        }
     }
 
     /// Collider `ch`'s sweep reached collider `other`: if the law governs the
@@ -1551,6 +1672,7 @@ impl Replay {
             for n in [pair.a, pair.b] {
                 if self.nodes[n].dynamic {
                     self.expand(k, bodies, colliders, narrow_phase, n, from, dt);
+                    self.bring_deferred(k, bodies, colliders, n, from, dt);
                     // The new path may reach what neither the narrow phase
                     // nor the sweep along the old one saw.
                     let collider = if n == pair.a { pair.c1 } else { pair.c2 };
