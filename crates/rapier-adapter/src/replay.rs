@@ -634,6 +634,12 @@ fn rest_pose(bodies: &RigidBodySet, co: &Collider) -> Pose {
 
 impl Replay {
     fn clear(&mut self) {
+        // Only the last run's nodes have pairs listed (the lists past them
+        // are empty: a scene of a few nodes does not walk the high-water
+        // mark of every list ever made).
+        for a in &mut self.adjacency[..self.nodes.len()] {
+            a.clear();
+        }
         self.nodes.clear();
         self.stamp = self.stamp.wrapping_add(1);
         if self.stamp == 0 {
@@ -645,9 +651,6 @@ impl Replay {
         }
         self.pairs.clear();
         self.deferred_range.clear();
-        for a in &mut self.adjacency {
-            a.clear();
-        }
         for (n, f) in self.fixed_swaps.drain(..) {
             std::mem::swap(&mut self.adjacency[n], &mut self.fixed_adjacency[f]);
         }

@@ -387,9 +387,6 @@ pub struct Kimpact {
     pending: Vec<ColliderHandle>,
     /// Bodies kimpact gave a new velocity since the last `prepare`.
     woken: Vec<RigidBodyHandle>,
-    /// Scratch of `prepare`: the awake bodies fast enough to be flagged.
-    #[cfg_attr(feature = "serde-serialize", serde(skip))]
-    fast: Vec<RigidBodyHandle>,
     #[cfg_attr(feature = "serde-serialize", serde(skip))]
     candidates: Mutex<Vec<Candidate>>,
     #[cfg_attr(feature = "serde-serialize", serde(skip))]
@@ -426,7 +423,6 @@ impl Kimpact {
             epoch: 0,
             pending: Vec::new(),
             woken: Vec::new(),
-            fast: Vec::new(),
             candidates: Mutex::new(Vec::new()),
             guarded: std::sync::atomic::AtomicU64::new(0),
             sorted: Vec::new(),
@@ -662,30 +658,26 @@ impl Kimpact {
         self.flagged.clear();
         if self.mode != Mode::Native {
             let threshold = 0.5 * rest_speed;
-            // Every awake body, at every step: a tight first pass reads only
-            // the velocity (a body's data spans several cache lines, and
-            // this read is a cache miss per body in a large scene; a loop
-            // without calls or stores lets the processor overlap them) and,
-            // in exact mode, the start of a slow body (it may join a chain:
-            // stored whether or not it has a marked collider; a kinematic
-            // body's start is never read). The few fast bodies get the rest.
+            // Every awake body, at every step: a tight pass reads only the
+            // velocity of a slow body (a body's data spans several cache
+            // lines, and this read is a cache miss per body in a large
+            // scene; a loop without calls lets the processor overlap them)
+            // and, in exact mode, its start (it may join a chain: stored
+            // whether or not it has a marked collider; a kinematic body's
+            // start is never read). A fast body gets the rest at once,
+            // while its lines are in the cache (a second pass over the fast
+            // bodies missed them again in a gas, where all are fast).
             let exact = self.mode == Mode::Exact;
-            let mut fast = std::mem::take(&mut self.fast);
             for handle in islands.active_bodies() {
                 let Some(rb) = bodies.get(handle) else {
                     continue;
                 };
                 if rb.linvel().length_squared() > threshold * threshold {
-                    fast.push(handle);
+                    self.prepare_rb(handle, rb, colliders, threshold);
                 } else if exact {
                     self.store_start(handle, rb.translation());
                 }
             }
-            for &handle in &fast {
-                self.prepare_body(handle, bodies, colliders, threshold);
-            }
-            fast.clear();
-            self.fast = fast;
             let mut pending = std::mem::take(&mut self.pending);
             for &ch in &pending {
                 if let Some(handle) = colliders.get(ch).and_then(|co| co.parent()) {
@@ -731,7 +723,19 @@ impl Kimpact {
         colliders: &mut ColliderSet,
         threshold: Real,
     ) {
-        let Some(rb) = bodies.get(handle) else { return };
+        if let Some(rb) = bodies.get(handle) {
+            self.prepare_rb(handle, rb, colliders, threshold);
+        }
+    }
+
+    /// [`Kimpact::prepare_body`] with the body at hand.
+    fn prepare_rb(
+        &mut self,
+        handle: RigidBodyHandle,
+        rb: &RigidBody,
+        colliders: &mut ColliderSet,
+        threshold: Real,
+    ) {
         if !rb.is_dynamic() || rb.is_sleeping() {
             return;
         }
