@@ -262,6 +262,9 @@ pub(crate) struct Replay {
     /// size) to be swept for partners: see [`Replay::run`].
     sweep_reach: Real,
     nodes: Vec<Node>,
+    /// The dynamic nodes whose path the law bent this run, in the order of
+    /// their first impact (the write-back walks these, not every node).
+    hit: Vec<usize>,
     /// Node of a body, by the body's index (valid when stamped this run):
     /// dense arrays rather than hash maps (hashing was a fifth of a step).
     body_slots: Vec<Slot>,
@@ -332,6 +335,9 @@ struct SweepGrid {
     dims: [usize; 3],
     start: Vec<u32>,
     items: Vec<GridItem>,
+    /// Scratch of `build`: each box's cell, from the counting pass to the
+    /// placing pass.
+    cells: Vec<u32>,
 }
 
 /// A box in a [`SweepGrid`] cell.
@@ -350,6 +356,7 @@ impl Default for SweepGrid {
             dims: [1; 3],
             start: Vec::new(),
             items: Vec::new(),
+            cells: Vec::new(),
         }
     }
 }
@@ -404,9 +411,12 @@ impl SweepGrid {
         // is cell c's next free slot, which ends as the start of cell c + 1.
         self.start.clear();
         self.start.resize(cells + 1, 0);
+        let mut cell_of = std::mem::take(&mut self.cells);
+        cell_of.clear();
         for b in boxes.clone() {
             let c = self.cell_of(b.mins);
             self.start[c + 1] += 1;
+            cell_of.push(c as u32);
         }
         // The sum runs in a register: `start[c + 1] += start[c]` would
         // wait on the store of the previous cell at every cell.
@@ -423,14 +433,15 @@ impl SweepGrid {
         };
         self.items.clear();
         self.items.resize(n, placeholder);
-        for (i, b) in boxes.enumerate() {
-            let c = self.cell_of(b.mins);
+        for (i, (b, &c)) in boxes.zip(&cell_of).enumerate() {
+            let c = c as usize;
             self.items[self.start[c + 1] as usize] = GridItem {
                 index: i as u32,
                 aabb: b,
             };
             self.start[c + 1] += 1;
         }
+        self.cells = cell_of;
         true
     }
 
@@ -641,6 +652,7 @@ impl Replay {
             a.clear();
         }
         self.nodes.clear();
+        self.hit.clear();
         self.stamp = self.stamp.wrapping_add(1);
         if self.stamp == 0 {
             // Wrapped: forget every old stamp.
@@ -1488,10 +1500,11 @@ impl Replay {
             dt,
             rest_speed,
         );
-        for node in &self.nodes {
-            let (true, true, Key::Body(h)) = (node.dynamic, node.hit, node.key) else {
-                continue;
-            };
+        // In node order, as a walk over every node would take them.
+        self.hit.sort_unstable();
+        for &n in &self.hit {
+            let node = &self.nodes[n];
+            let Key::Body(h) = node.key else { continue };
             if let Some(rb) = bodies.get_mut(h)
                 && node.u.is_finite()
             {
@@ -1513,9 +1526,9 @@ impl Replay {
 
     /// The bodies whose velocity the last run changed.
     pub(crate) fn hit_bodies(&self) -> impl Iterator<Item = RigidBodyHandle> + '_ {
-        self.nodes.iter().filter_map(|n| match n.key {
-            Key::Body(h) if n.dynamic && n.hit => Some(h),
-            _ => None,
+        self.hit.iter().filter_map(|&n| match self.nodes[n].key {
+            Key::Body(h) => Some(h),
+            Key::Collider(_) => None,
         })
     }
 
@@ -1558,11 +1571,11 @@ impl Replay {
             dt,
             rest_speed,
         );
-        // Write back the bodies whose path the law bent.
-        for node in &self.nodes {
-            let (true, true, Key::Body(h)) = (node.dynamic, node.hit, node.key) else {
-                continue;
-            };
+        // Write back the bodies whose path the law bent, in node order.
+        self.hit.sort_unstable();
+        for &n in &self.hit {
+            let node = &self.nodes[n];
+            let Key::Body(h) = node.key else { continue };
             let Some(rb) = bodies.get_mut(h) else {
                 continue;
             };
@@ -1666,7 +1679,10 @@ impl Replay {
                 let dv = from_law(&dv);
                 node.v += dv;
                 node.u += dv;
-                node.hit = true;
+                if !node.hit {
+                    node.hit = true;
+                    self.hit.push(n);
+                }
             }
             k.push_event(&candidate, t, pair.point, &impact, false);
             // Chains: neighbours of both bodies, then fresh predictions for
