@@ -1320,7 +1320,9 @@ impl Replay {
                 found.push((s, kb));
             }
         });
-        self.group_deferred(&deferred, sweepers);
+        if !deferred.is_empty() {
+            self.group_deferred(&deferred, sweepers);
+        }
         self.deferred = deferred;
         // Every other leaf of rapier's tree (walls, slow bodies): a leaf's
         // box looks up the cells whose boxes may meet it. Every leaf, not
