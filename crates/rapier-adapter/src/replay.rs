@@ -337,7 +337,7 @@ struct SweepGrid {
     items: Vec<GridItem>,
     /// Scratch of `build`: each box's cell, from the counting pass to the
     /// placing pass.
-    cells: Vec<u32>,
+    box_cells: Vec<u32>,
 }
 
 /// A box in a [`SweepGrid`] cell.
@@ -356,7 +356,7 @@ impl Default for SweepGrid {
             dims: [1; 3],
             start: Vec::new(),
             items: Vec::new(),
-            cells: Vec::new(),
+            box_cells: Vec::new(),
         }
     }
 }
@@ -411,12 +411,12 @@ impl SweepGrid {
         // is cell c's next free slot, which ends as the start of cell c + 1.
         self.start.clear();
         self.start.resize(cells + 1, 0);
-        let mut cell_of = std::mem::take(&mut self.cells);
-        cell_of.clear();
+        let mut box_cells = std::mem::take(&mut self.box_cells);
+        box_cells.clear();
         for b in boxes.clone() {
             let c = self.cell_of(b.mins);
             self.start[c + 1] += 1;
-            cell_of.push(c as u32);
+            box_cells.push(c as u32);
         }
         // The sum runs in a register: `start[c + 1] += start[c]` would
         // wait on the store of the previous cell at every cell.
@@ -433,7 +433,7 @@ impl SweepGrid {
         };
         self.items.clear();
         self.items.resize(n, placeholder);
-        for (i, (b, &c)) in boxes.zip(&cell_of).enumerate() {
+        for (i, (b, &c)) in boxes.zip(&box_cells).enumerate() {
             let c = c as usize;
             self.items[self.start[c + 1] as usize] = GridItem {
                 index: i as u32,
@@ -441,7 +441,7 @@ impl SweepGrid {
             };
             self.start[c + 1] += 1;
         }
-        self.cells = cell_of;
+        self.box_cells = box_cells;
         true
     }
 
