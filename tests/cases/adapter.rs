@@ -558,12 +558,7 @@ fn filtered_pairs_pass_through_each_other_in_every_mode() {
 /// above it. The same with one broad-phase query per body.
 #[test]
 fn a_pair_deferred_by_the_sweep_still_meets_after_an_impact() {
-    let at = |x: Real, y: Real| {
-        let mut p = Vector::ZERO;
-        p[0] = x;
-        p[1] = y;
-        p
-    };
+    let at = |x: Real, y: Real| Vector::X * x + Vector::Y * y;
     for per_body in [false, true] {
         let mut w = TestWorld::new(Mode::Exact, 0.0, Vector::ZERO);
         // On their first paths A and C stay 0.04 apart; A meets B at

@@ -557,6 +557,23 @@ impl SweepGrid {
     }
 }
 
+/// The linear cast ([`crate::cast::ball_ball`]) of two balls riding nodes
+/// `n1` and `n2`, each given as (radius, centre offset from its node's path;
+/// see [`Pair::balls`]), from time `from` over `window` seconds. The one
+/// cast of a pair of balls: `Replay::cast`, and the bulk sweep's test of
+/// whether a pair may be deferred, must agree.
+fn cast_balls(
+    n1: &Node,
+    (r1, o1): (Real, Vector),
+    n2: &Node,
+    (r2, o2): (Real, Vector),
+    from: Real,
+    window: Real,
+) -> Option<crate::cast::Hit> {
+    let (c1, c2) = (n1.at(from) + o1, n2.at(from) + o2);
+    crate::cast::ball_ball(c1, n1.v, r1, c2, n2.v, r2, window, false)
+}
+
 /// Whether rapier's solver would let colliders `co1` and `co2` push each
 /// other, as its narrow phase decides it: both enabled, neither a sensor,
 /// their collision and solver groups admitting each other, and their
@@ -994,10 +1011,15 @@ impl Replay {
         window: Real,
     ) -> Option<(Real, Vector, Vector)> {
         let (va, vb) = (self.nodes[pair.a].v, self.nodes[pair.b].v);
-        if let Some([(r1, o1), (r2, o2)]) = pair.balls {
-            let c1 = self.nodes[pair.a].at(from) + o1;
-            let c2 = self.nodes[pair.b].at(from) + o2;
-            return crate::cast::ball_ball(c1, va, r1, c2, vb, r2, window, false);
+        if let Some([b1, b2]) = pair.balls {
+            return cast_balls(
+                &self.nodes[pair.a],
+                b1,
+                &self.nodes[pair.b],
+                b2,
+                from,
+                window,
+            );
         }
         let pos1 = self.pose(bodies, colliders, pair.a, pair.c1, from)?;
         let pos2 = self.pose(bodies, colliders, pair.b, pair.c2, from)?;
@@ -1300,17 +1322,7 @@ impl Replay {
                 }
             } else if let (Some((r1, o1)), Some((r2, o2))) = (a.ball, b.ball) {
                 // The first cast `Replay::predict` would make of the pair.
-                let (na, nb) = (&nodes[a.node], &nodes[b.node]);
-                let hit = crate::cast::ball_ball(
-                    na.at(0.0) + o1,
-                    na.v,
-                    r1,
-                    nb.at(0.0) + o2,
-                    nb.v,
-                    r2,
-                    dt,
-                    false,
-                );
+                let hit = cast_balls(&nodes[a.node], (r1, o1), &nodes[b.node], (r2, o2), 0.0, dt);
                 if hit.is_some() {
                     found.push((s, kb));
                 } else {
