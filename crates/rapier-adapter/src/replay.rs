@@ -307,6 +307,9 @@ pub(crate) struct Replay {
     sweeping: Vec<u32>,
     /// Scratch of a single sweep: the collider indices it met.
     met: Vec<u32>,
+    /// rapier's broad-phase boxes in a grid, for the single sweeps of a run
+    /// that makes many (see [`LeafGrid`]).
+    leaves: LeafGrid,
     /// Never sweep in bulk (tests compare both ways).
     pub(crate) per_body_sweep: bool,
 }
@@ -557,6 +560,115 @@ impl SweepGrid {
     }
 }
 
+/// The boxes of rapier's broad phase (its tree's leaves) in a [`SweepGrid`],
+/// for the single sweeps of a run that makes many: the re-sweeps after
+/// impacts in a settling pile (one per impact that sets a ball moving
+/// further than rapier's contacts reach; a tree descent from the root each
+/// was a tenth of an exact step of the 10,000-ball 2D pit) and the
+/// sweepers of a run too few for the bulk sweep. Built once a run has made
+/// [`LeafGrid::QUERY_SHARE`]-th as many tree queries as the tree has
+/// leaves (a build costs a pass over the leaves, about as much as that many
+/// queries). It finds every leaf box a query meets, as the bulk sweep's
+/// grid does, including those a tree descent misses under an inner node
+/// not yet refitted. Boxes much larger than the typical one (walls, a
+/// floor) stay out of the grid, whose cells would grow to their size, and
+/// are tested one by one.
+#[derive(Default)]
+struct LeafGrid {
+    /// Tree queries made this run.
+    queries: usize,
+    /// Built this run (`Some(false)`: tried and not possible).
+    built: Option<bool>,
+    grid: SweepGrid,
+    /// The collider index of each box in `grid` (by the box's number).
+    keys: Vec<u32>,
+    /// The boxes gridded, with their collider index (scratch of `build`).
+    small: Vec<(u32, Aabb)>,
+    /// The boxes left out of the grid, with their collider index.
+    big: Vec<(u32, Aabb)>,
+}
+
+impl LeafGrid {
+    /// A run builds the grid after `leaves / QUERY_SHARE` tree queries.
+    const QUERY_SHARE: usize = 16;
+    /// and never before this many.
+    const MIN_QUERIES: usize = 64;
+    /// A box is left out of the grid when its largest side exceeds this
+    /// many times the mean of the leaves' largest sides.
+    const BIG: Real = 4.0;
+    /// The grid is not built when more boxes than this would be left out
+    /// (each query would test them all).
+    const MAX_BIG: usize = 64;
+
+    /// Forget the last run.
+    fn clear(&mut self) {
+        self.queries = 0;
+        self.built = None;
+    }
+
+    /// Count one tree query of this run; whether the grid is now to be
+    /// used (built at this call if need be) for a tree of `tree` leaves.
+    fn wanted(&mut self, tree: &Bvh) -> bool {
+        match self.built {
+            Some(built) => built,
+            None => {
+                self.queries += 1;
+                let leaves = tree.leaf_count() as usize;
+                if self.queries < Self::MIN_QUERIES.max(leaves / Self::QUERY_SHARE) {
+                    return false;
+                }
+                let built = self.build(tree);
+                self.built = Some(built);
+                built
+            }
+        }
+    }
+
+    /// Grid the leaves of `tree`; `false` if they cannot be gridded.
+    fn build(&mut self, tree: &Bvh) -> bool {
+        let mut small = std::mem::take(&mut self.small);
+        small.clear();
+        self.big.clear();
+        let mut sum: f64 = 0.0;
+        for_each_leaf(tree, |key, node| {
+            let b = node.aabb();
+            sum += f64::from((b.maxs - b.mins).max_element());
+            small.push((key, b));
+        });
+        let mean = sum / small.len().max(1) as f64;
+        let cut = Self::BIG * mean as Real;
+        // Not `cut.is_finite()` alone: a NaN side compares false and stays.
+        let mut i = 0;
+        while i < small.len() {
+            if (small[i].1.maxs - small[i].1.mins).max_element() > cut || !cut.is_finite() {
+                self.big.push(small.swap_remove(i));
+            } else {
+                i += 1;
+            }
+        }
+        let ok = self.big.len() <= Self::MAX_BIG && self.grid.build(small.iter().map(|&(_, b)| b));
+        self.keys.clear();
+        if ok {
+            self.keys.extend(small.iter().map(|&(key, _)| key));
+        }
+        self.small = small;
+        ok
+    }
+
+    /// Push the collider index of every box that meets `aabb` onto `met`,
+    /// in no particular order.
+    fn overlaps(&self, aabb: &Aabb, met: &mut Vec<u32>) {
+        self.grid
+            .overlaps(aabb, |i| met.push(self.keys[i as usize]));
+        met.extend(
+            self.big
+                .iter()
+                .filter(|(_, b)| aabb.intersects(b))
+                .map(|&(key, _)| key),
+        );
+    }
+}
+
 /// The linear cast ([`crate::cast::ball_ball`]) of two balls riding nodes
 /// `n1` and `n2`, each given as (radius, centre offset from its node's path;
 /// see [`Pair::balls`]), from time `from` over `window` seconds. The one
@@ -684,6 +796,7 @@ impl Replay {
             std::mem::swap(&mut self.adjacency[n], &mut self.fixed_adjacency[f]);
         }
         self.queue.clear();
+        self.leaves.clear();
     }
 
     fn node(
@@ -1238,11 +1351,15 @@ impl Replay {
         // In collider order (as the bulk sweep takes them), not the tree's.
         let mut met = std::mem::take(&mut self.met);
         met.clear();
-        met.extend(
-            query
-                .intersect_aabb_conservative(swept)
-                .map(|(other, _)| other.into_raw_parts().0),
-        );
+        if !self.per_body_sweep && self.leaves.wanted(query.bvh) {
+            self.leaves.overlaps(&swept, &mut met);
+        } else {
+            met.extend(
+                query
+                    .intersect_aabb_conservative(swept)
+                    .map(|(other, _)| other.into_raw_parts().0),
+            );
+        }
         met.sort_unstable();
         for &index in &met {
             if let Some((_, other)) = colliders.get_unknown_gen(index) {
@@ -1803,6 +1920,70 @@ mod tests {
             );
             assert_eq!(joined, brute, "size {size}: the join");
         }
+    }
+
+    /// The leaf grid is built once a run has made its share of tree
+    /// queries, and then finds for every query exactly the leaves whose box
+    /// in the tree meets it (brute force over the tree's leaves), among
+    /// them every leaf a descent of the tree finds; four walls far larger
+    /// than the balls' boxes stay out of the grid and are still found.
+    #[test]
+    fn the_leaf_grid_finds_every_leaf_box_a_query_meets() {
+        let mut rng = Lcg(5);
+        // As dense in 3D as in 2D.
+        let spread = if DIM == 2 { 40.0 } else { 12.0 };
+        let mut tree = Bvh::new();
+        let mut key = 0;
+        for _ in 0..2000 {
+            tree.insert(rng.aabb(spread, 0.6), key);
+            key += 1;
+        }
+        for axis in 0..2 {
+            for side in [-1.0, spread] {
+                let (mut lo, mut hi) = (Vector::splat(-1.0), Vector::splat(spread + 1.0));
+                lo[axis] = side;
+                hi[axis] = side + 1.0;
+                tree.insert(Aabb::new(lo, hi), key);
+                key += 1;
+            }
+        }
+        let mut leaves = LeafGrid::default();
+        let needed = LeafGrid::MIN_QUERIES.max(key as usize / LeafGrid::QUERY_SHARE);
+        for _ in 1..needed {
+            assert!(!leaves.wanted(&tree));
+        }
+        assert!(leaves.wanted(&tree));
+        assert_eq!(leaves.big.len(), 4, "the walls");
+        let mut boxes = Vec::new();
+        for_each_leaf(&tree, |key, node| boxes.push((key, node.aabb())));
+        let mut found = 0;
+        for q in 0..400 {
+            // Some queries reach past the walls, one covers everything.
+            let query = if q == 0 {
+                Aabb::new(Vector::splat(-50.0), Vector::splat(90.0))
+            } else {
+                let b = rng.aabb(spread + 6.0, 2.5);
+                Aabb::new(b.mins - Vector::splat(3.0), b.maxs - Vector::splat(3.0))
+            };
+            let mut met = Vec::new();
+            leaves.overlaps(&query, &mut met);
+            met.sort_unstable();
+            let mut brute: Vec<u32> = boxes
+                .iter()
+                .filter(|(_, b)| query.intersects(b))
+                .map(|&(key, _)| key)
+                .collect();
+            brute.sort_unstable();
+            assert_eq!(met, brute, "query {q}");
+            for key in tree.leaves(|node: &BvhNode| node.aabb().intersects(&query)) {
+                assert!(brute.binary_search(&key).is_ok(), "query {q}: leaf {key}");
+            }
+            found += brute.len();
+        }
+        assert!(found > 2000 + 400, "{found} leaves found");
+        // The next run counts its own queries.
+        leaves.clear();
+        assert!(!leaves.wanted(&tree));
     }
 
     /// Every leaf of a tree is visited once with its own box, whether its
