@@ -69,6 +69,10 @@ struct Node {
     /// sweep of that collider inside it would find nothing new (a ball
     /// bouncing back along its path in a pile).
     swept: Option<(ColliderHandle, Aabb)>,
+    /// The body's mass as the law takes it, read at the node's first
+    /// impact (NaN until then; a dynamic body's mass does not change
+    /// during the run, and a pile hits the same nodes again and again).
+    mass: Real,
 }
 
 impl Node {
@@ -838,6 +842,7 @@ impl Replay {
                     expanded: false,
                     hit: false,
                     swept: None,
+                    mass: Real::NAN,
                 }
             }
             Some(rb) if rb.is_dynamic() => {
@@ -873,6 +878,7 @@ impl Replay {
                     expanded: false,
                     hit: false,
                     swept: None,
+                    mass: Real::NAN,
                 }
             }
             Some(rb) => {
@@ -892,6 +898,7 @@ impl Replay {
                     expanded: true,
                     hit: false,
                     swept: None,
+                    mass: Real::NAN,
                 }
             }
             None => Node {
@@ -906,6 +913,7 @@ impl Replay {
                 expanded: true,
                 hit: false,
                 swept: None,
+                mass: Real::NAN,
             },
         };
         let i = self.nodes.len();
@@ -1737,7 +1745,6 @@ impl Replay {
         let mut events = 0usize;
         while let Some((t, i)) = self.queue.pop() {
             let pair = self.pairs[i];
-            let (na, nb) = (self.nodes[pair.a], self.nodes[pair.b]);
             if events >= max_events {
                 k.count_cap_hit();
                 log::warn!(
@@ -1745,13 +1752,24 @@ impl Replay {
                 );
                 break;
             }
-            let mass = |n: &Node, c: ColliderHandle| -> Mass<Real> {
-                let parent = colliders.get(c).and_then(|co| co.parent());
-                let lb = law_body(bodies, parent);
-                if n.dynamic { lb.mass } else { Mass::Infinite }
+            let mut mass = |n: usize, c: ColliderHandle| -> Mass<Real> {
+                let node = &mut self.nodes[n];
+                if !node.dynamic {
+                    return Mass::Infinite;
+                }
+                if node.mass.is_nan() {
+                    let parent = colliders.get(c).and_then(|co| co.parent());
+                    match law_body(bodies, parent).mass {
+                        Mass::Finite(m) => node.mass = m,
+                        // Not dynamic after all: as before, not cached.
+                        Mass::Infinite => return Mass::Infinite,
+                    }
+                }
+                Mass::Finite(node.mass)
             };
-            let ma = mass(&na, pair.c1);
-            let mb = mass(&nb, pair.c2);
+            let ma = mass(pair.a, pair.c1);
+            let mb = mass(pair.b, pair.c2);
+            let (na, nb) = (self.nodes[pair.a], self.nodes[pair.b]);
             // After the step, `u` is the velocity at its end: the law meets
             // the bodies at `t`, before gravity's share of the rest of the
             // step (which they keep afterwards). Against a fixed partner this
