@@ -641,7 +641,9 @@ impl LeafGrid {
         });
         let mean = sum / small.len().max(1) as f64;
         let cut = Self::BIG * mean as Real;
-        // Not `cut.is_finite()` alone: a NaN side compares false and stays.
+        // A mean that is not finite sends every box out of the grid (too
+        // many: no grid); a box with a NaN side stays in, and the grid's
+        // build refuses it.
         let mut i = 0;
         while i < small.len() {
             if (small[i].1.maxs - small[i].1.mins).max_element() > cut || !cut.is_finite() {
