@@ -584,9 +584,8 @@ struct LeafGrid {
     /// Built this run (`Some(false)`: tried and not possible).
     built: Option<bool>,
     grid: SweepGrid,
-    /// The collider index of each box in `grid` (by the box's number).
-    keys: Vec<u32>,
-    /// The boxes gridded, with their collider index (scratch of `build`).
+    /// The boxes in `grid`, with their collider index (a box's number in
+    /// the grid is its place here).
     small: Vec<(u32, Aabb)>,
     /// The boxes left out of the grid, with their collider index.
     big: Vec<(u32, Aabb)>,
@@ -653,10 +652,6 @@ impl LeafGrid {
             }
         }
         let ok = self.big.len() <= Self::MAX_BIG && self.grid.build(small.iter().map(|&(_, b)| b));
-        self.keys.clear();
-        if ok {
-            self.keys.extend(small.iter().map(|&(key, _)| key));
-        }
         self.small = small;
         ok
     }
@@ -665,7 +660,7 @@ impl LeafGrid {
     /// in no particular order.
     fn overlaps(&self, aabb: &Aabb, met: &mut Vec<u32>) {
         self.grid
-            .overlaps(aabb, |i| met.push(self.keys[i as usize]));
+            .overlaps(aabb, |i| met.push(self.small[i as usize].0));
         met.extend(
             self.big
                 .iter()
