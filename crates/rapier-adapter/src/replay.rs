@@ -640,12 +640,14 @@ impl LeafGrid {
         });
         let mean = sum / small.len().max(1) as f64;
         let cut = Self::BIG * mean as Real;
-        // A mean that is not finite sends every box out of the grid (too
-        // many: no grid); a box with a NaN side stays in, and the grid's
-        // build refuses it.
+        // A box with a NaN side stays in, and the grid's build refuses it.
+        if !cut.is_finite() {
+            self.small = small;
+            return false;
+        }
         let mut i = 0;
         while i < small.len() {
-            if (small[i].1.maxs - small[i].1.mins).max_element() > cut || !cut.is_finite() {
+            if (small[i].1.maxs - small[i].1.mins).max_element() > cut {
                 self.big.push(small.swap_remove(i));
             } else {
                 i += 1;
@@ -1128,7 +1130,6 @@ impl Replay {
         from: Real,
         window: Real,
     ) -> Option<(Real, Vector, Vector)> {
-        let (va, vb) = (self.nodes[pair.a].v, self.nodes[pair.b].v);
         if let Some([b1, b2]) = pair.balls {
             return cast_balls(
                 &self.nodes[pair.a],
@@ -1143,6 +1144,7 @@ impl Replay {
         let pos2 = self.pose(bodies, colliders, pair.b, pair.c2, from)?;
         let s1 = colliders.get(pair.c1)?.shape();
         let s2 = colliders.get(pair.c2)?.shape();
+        let (va, vb) = (self.nodes[pair.a].v, self.nodes[pair.b].v);
         crate::cast::cast(&pos1, va, s1, &pos2, vb, s2, window, false)
             .ok()
             .flatten()
