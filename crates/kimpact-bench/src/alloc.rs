@@ -1,20 +1,22 @@
 //! A counting global allocator around `std::alloc::System`: every
 //! allocation (and reallocation) on every thread, with its size.
 //!
-//! Attribution: while [`attribute`] is on, every `n`-th allocation is
-//! classified from its backtrace (file paths of the frames, from the
-//! allocation outwards): the first frame in kimpact's sources
+//! Attribution: while [`attribute`] is on, every `n`-th allocation (every
+//! one, by default) is classified from its stack (file paths of the frames,
+//! from the allocation outwards): the first frame in kimpact's sources
 //! (`crates/rapier-adapter/src`, `crates/kimpact/src`) makes it kimpact's
 //! own (this includes kimpact's contact hook, which rapier calls, and parry
 //! calls made by kimpact's replay); the first frame in rapier's
-//! `pipeline/physics_pipeline`, or none of the two, makes it rapier's. This needs
-//! line tables (the workspace's release profile has them) and costs about a
-//! millisecond per sampled allocation, so it runs on a few steps only.
-//! `KIMPACT_BENCH_TRACE_ALLOCS=N` prints the first `N` backtraces
-//! attributed to kimpact to stderr.
+//! `pipeline/physics_pipeline`, or none of the two, makes it rapier's. Each
+//! sampled allocation costs a stack walk; each distinct stack (by its frame
+//! addresses) is symbolized once, which needs line tables (the workspace's
+//! release profile has them). `KIMPACT_BENCH_TRACE_ALLOCS=N` prints the
+//! first `N` distinct stacks attributed to kimpact to stderr.
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
+use std::collections::HashMap;
+use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering::Relaxed};
 
 static COUNT: AtomicU64 = AtomicU64::new(0);
@@ -26,6 +28,14 @@ static SEEN: AtomicU64 = AtomicU64::new(0);
 static SAMPLED: AtomicU64 = AtomicU64::new(0);
 static OWN: AtomicU64 = AtomicU64::new(0);
 static TRACE_LEFT: AtomicU64 = AtomicU64::new(0);
+/// Distinct stacks seen while attributing, by frame addresses: for
+/// kimpact's, the frames' paths in the workspace's own crates; and how many
+/// sampled allocations had that stack.
+type Stacks = HashMap<Box<[usize]>, (Option<Vec<String>>, u64)>;
+static STACKS: Mutex<Option<Stacks>> = Mutex::new(None);
+/// Frames kept of a stack: enough to reach the pipeline's step from any
+/// allocation in it.
+const DEPTH: usize = 96;
 
 thread_local! {
     /// Set while this thread classifies an allocation (which allocates).
@@ -56,33 +66,60 @@ fn sample() -> bool {
         return true;
     }
     IN_TRACE.with(|t| t.set(true));
-    let text = std::backtrace::Backtrace::force_capture().to_string();
+    let mut ips = [0usize; DEPTH];
+    let mut len = 0;
+    backtrace::trace(|frame| {
+        ips[len] = frame.ip() as usize;
+        len += 1;
+        len < DEPTH
+    });
     SAMPLED.fetch_add(1, Relaxed);
-    if is_kimpact(&text) {
+    let mut stacks = STACKS.lock().unwrap_or_else(|e| e.into_inner());
+    let stacks = stacks.get_or_insert_with(HashMap::new);
+    let entry = stacks.entry(ips[..len].into()).or_insert_with(|| {
+        let paths = symbolize(&ips[..len]);
+        let own = is_kimpact(paths.iter().map(String::as_str)).then(|| {
+            paths
+                .into_iter()
+                .filter(|p| p.contains("/crates/") && !p.contains("kimpact-bench/src/alloc"))
+                .collect()
+        });
+        (own, 0)
+    });
+    entry.1 += 1;
+    if entry.0.is_some() {
         OWN.fetch_add(1, Relaxed);
-        if TRACE_LEFT
-            .fetch_update(Relaxed, Relaxed, |n| n.checked_sub(1))
-            .is_ok()
-        {
-            eprintln!("== an allocation in kimpact's code\n{text}");
-        }
     }
     IN_TRACE.with(|t| t.set(false));
     true
 }
 
-/// Whether a formatted backtrace reaches kimpact's sources before rapier's
-/// pipeline step (see the module docs). An allocation inside rapier's
+/// The source file of every frame (inlined ones first, as they nest) of
+/// the stack `ips`, innermost first; `?` where there is none.
+fn symbolize(ips: &[usize]) -> Vec<String> {
+    let mut paths = Vec::new();
+    for &ip in ips {
+        backtrace::resolve(ip as *mut std::ffi::c_void, |symbol| {
+            let file = symbol.filename().map(|f| f.display().to_string());
+            let line = symbol.lineno().unwrap_or(0);
+            paths.push(match file {
+                Some(f) => format!("{f}:{line}"),
+                None => "?".to_owned(),
+            });
+        });
+    }
+    paths
+}
+
+/// Whether a stack (its frames' source paths, innermost first) reaches
+/// kimpact's sources before rapier's pipeline step (see the module docs). An allocation inside rapier's
 /// `RigidBodySet` is rapier's even when kimpact's velocity write caused it:
 /// rapier hands its list of modified bodies to the pipeline at every step
 /// (`mem::take`, so the list starts again without capacity), and the list
 /// regrows for whoever sets a velocity through `RigidBodySet::get_mut`,
 /// kimpact or the user's own code.
-pub fn is_kimpact(backtrace: &str) -> bool {
-    for line in backtrace.lines() {
-        let Some(path) = line.trim_start().strip_prefix("at ") else {
-            continue;
-        };
+fn is_kimpact<'a>(paths: impl IntoIterator<Item = &'a str>) -> bool {
+    for path in paths {
         if path.contains("rapier-adapter/src/") || path.contains("crates/kimpact/src/") {
             return true;
         }
@@ -139,13 +176,38 @@ pub fn attribute(every: u64) {
     SEEN.store(0, Relaxed);
     SAMPLED.store(0, Relaxed);
     OWN.store(0, Relaxed);
+    if let Some(stacks) = STACKS.lock().unwrap_or_else(|e| e.into_inner()).as_mut() {
+        stacks.clear();
+    }
     ATTRIBUTING.store(true, Relaxed);
 }
 
-/// Stop classifying: (allocations seen, sampled, of which kimpact's).
-pub fn stop_attribute() -> (u64, u64, u64) {
+/// Stop classifying: (allocations seen, sampled, of which kimpact's,
+/// distinct stacks sampled). With `KIMPACT_BENCH_TRACE_ALLOCS=N`, print
+/// kimpact's `N` most frequent stacks (their frames in the workspace's
+/// crates) and counts to stderr.
+pub fn stop_attribute() -> (u64, u64, u64, u64) {
     ATTRIBUTING.store(false, Relaxed);
-    (SEEN.load(Relaxed), SAMPLED.load(Relaxed), OWN.load(Relaxed))
+    let stacks = STACKS.lock().unwrap_or_else(|e| e.into_inner());
+    let distinct = stacks.as_ref().map_or(0, |s| s.len() as u64);
+    let mut own: Vec<(&Vec<String>, u64)> = stacks
+        .iter()
+        .flatten()
+        .filter_map(|(_, (paths, n))| Some((paths.as_ref()?, *n)))
+        .collect();
+    own.sort_by(|a, b| b.1.cmp(&a.1).then_with(|| a.0.cmp(b.0)));
+    for (paths, n) in own.iter().take(TRACE_LEFT.load(Relaxed) as usize) {
+        eprintln!(
+            "== {n} allocations in kimpact's code from\n{}",
+            paths.join("\n")
+        );
+    }
+    (
+        SEEN.load(Relaxed),
+        SAMPLED.load(Relaxed),
+        OWN.load(Relaxed),
+        distinct,
+    )
 }
 
 #[cfg(test)]
@@ -154,13 +216,43 @@ mod tests {
 
     #[test]
     fn attribution_reads_the_innermost_known_frame() {
-        let hook = "   0: alloc\n             at /r/alloc/src/raw_vec.rs:1:1\n   1: record\n             at ./crates/rapier-adapter/src/resolver.rs:270:9\n   2: process_pair\n             at /c/rapier3d-0.36.1/src/pipeline/physics_pipeline.rs:1:1\n";
+        let hook = [
+            "/r/alloc/src/raw_vec.rs:1",
+            "./crates/rapier-adapter/src/resolver.rs:270",
+            "/c/rapier3d-0.36.1/src/pipeline/physics_pipeline.rs:1",
+        ];
         assert!(is_kimpact(hook));
-        let rapier = "   0: alloc\n             at /r/alloc/src/raw_vec.rs:1:1\n   1: step\n             at /c/rapier3d-0.36.1/src/pipeline/physics_pipeline/mod.rs:1:1\n   2: step\n             at ./crates/rapier-adapter/src/resolver.rs:1:1\n";
+        let rapier = [
+            "/r/alloc/src/raw_vec.rs:1",
+            "/c/rapier3d-0.36.1/src/pipeline/physics_pipeline/mod.rs:1",
+            "./crates/rapier-adapter/src/resolver.rs:1",
+        ];
         assert!(!is_kimpact(rapier));
         // rapier's modified-bodies list regrowing under kimpact's velocity
         // write is rapier's.
-        let write = "   0: alloc\n             at /r/alloc/src/raw_vec.rs:1:1\n   1: push_once\n             at /c/rapier2d-0.36.1/src/dynamics/rigid_body_set.rs:277:9\n   2: run\n             at ./crates/rapier-adapter/src/replay.rs:1:1\n";
+        let write = [
+            "/r/alloc/src/raw_vec.rs:1",
+            "/c/rapier2d-0.36.1/src/dynamics/rigid_body_set.rs:277",
+            "./crates/rapier-adapter/src/replay.rs:1",
+        ];
         assert!(!is_kimpact(write));
+        // Neither: rapier's (the user's own code, std).
+        assert!(!is_kimpact(["/r/alloc/src/raw_vec.rs:1", "?"]));
+    }
+
+    #[test]
+    fn a_stack_is_walked_and_symbolized_to_this_file() {
+        let mut ips = Vec::new();
+        backtrace::trace(|frame| {
+            ips.push(frame.ip() as usize);
+            ips.len() < 8
+        });
+        let paths = super::symbolize(&ips);
+        assert!(
+            paths
+                .iter()
+                .any(|p| p.contains("kimpact-bench/src/alloc.rs")),
+            "{paths:?}"
+        );
     }
 }

@@ -258,6 +258,9 @@ pub struct Solo {
     pub attr_seen: u64,
     pub attr_sampled: u64,
     pub attr_own: u64,
+    /// Distinct stacks among the classified allocations.
+    #[serde(default)]
+    pub attr_stacks: u64,
 }
 
 /// The kimpact benchmark matrix: time per step against native rapier,
@@ -308,8 +311,8 @@ struct Cli {
     #[arg(long, default_value_t = 600)]
     timeout: u64,
     /// Skip the untimed pass that attributes the heap allocations of the
-    /// measured steps to kimpact or rapier from backtraces (~1,000
-    /// classified per mode and configuration, about a second each).
+    /// measured steps to kimpact or rapier from their stacks (every one
+    /// classified; each distinct stack symbolized once).
     #[arg(long)]
     no_attribute: bool,
     /// Internal (with --solo): run the attribution pass.

@@ -415,9 +415,9 @@ pub fn run_pair(
 
 /// Memory and attribution: `mode` alone in this process (untimed): warm-up
 /// and `steps` steps, then the peak RSS. With `attribute`, the same again
-/// (serial rapier is deterministic), classifying about 1,000 of the
-/// allocations of the measured steps as kimpact's or rapier's from their
-/// backtraces (after the RSS is read: symbolizing takes memory).
+/// (serial rapier is deterministic), classifying every allocation of the
+/// measured steps as kimpact's or rapier's from its stack (after the RSS is
+/// read: symbolizing takes memory).
 pub fn run_solo(
     scene: Scene,
     balls: usize,
@@ -449,6 +449,7 @@ pub fn run_solo(
         attr_seen: 0,
         attr_sampled: 0,
         attr_own: 0,
+        attr_stacks: 0,
     };
     if attribute {
         drop(bench);
@@ -456,11 +457,16 @@ pub fn run_solo(
         for _ in 0..warmup {
             again.step();
         }
-        alloc::attribute((count1 - count0).div_ceil(1000));
+        alloc::attribute(1);
         for _ in 0..steps {
             again.step();
         }
-        (solo.attr_seen, solo.attr_sampled, solo.attr_own) = alloc::stop_attribute();
+        (
+            solo.attr_seen,
+            solo.attr_sampled,
+            solo.attr_own,
+            solo.attr_stacks,
+        ) = alloc::stop_attribute();
         solo.attributed = true;
     }
     Some(solo)
