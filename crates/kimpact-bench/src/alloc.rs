@@ -10,8 +10,9 @@
 //! `pipeline/physics_pipeline`, or none of the two, makes it rapier's. Each
 //! sampled allocation costs a stack walk; each distinct stack (by its frame
 //! addresses) is symbolized once, which needs line tables (the workspace's
-//! release profile has them). `KIMPACT_BENCH_TRACE_ALLOCS=N` prints the
-//! first `N` distinct stacks attributed to kimpact to stderr.
+//! release profile has them). `KIMPACT_BENCH_TRACE_ALLOCS=N` prints
+//! kimpact's `N` most frequent stacks to stderr, `KIMPACT_BENCH_TRACE_ALL=N`
+//! rapier's (see [`stop_attribute`]).
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
@@ -28,10 +29,11 @@ static SEEN: AtomicU64 = AtomicU64::new(0);
 static SAMPLED: AtomicU64 = AtomicU64::new(0);
 static OWN: AtomicU64 = AtomicU64::new(0);
 static TRACE_LEFT: AtomicU64 = AtomicU64::new(0);
-/// Distinct stacks seen while attributing, by frame addresses: for
-/// kimpact's, the frames' paths in the workspace's own crates; and how many
-/// sampled allocations had that stack.
-type Stacks = HashMap<Box<[usize]>, (Option<Vec<String>>, u64)>;
+static TRACE_ALL: AtomicU64 = AtomicU64::new(0);
+/// Distinct stacks seen while attributing, by frame addresses: whether
+/// kimpact's, the frames' paths in the workspace's crates, rapier and
+/// parry, and how many sampled allocations had that stack.
+type Stacks = HashMap<Box<[usize]>, (bool, Vec<String>, u64)>;
 static STACKS: Mutex<Option<Stacks>> = Mutex::new(None);
 /// Frames kept of a stack: enough to reach the pipeline's step from any
 /// allocation in it.
@@ -78,16 +80,18 @@ fn sample() -> bool {
     let stacks = stacks.get_or_insert_with(HashMap::new);
     let entry = stacks.entry(ips[..len].into()).or_insert_with(|| {
         let paths = symbolize(&ips[..len]);
-        let own = is_kimpact(paths.iter().map(String::as_str)).then(|| {
-            paths
-                .into_iter()
-                .filter(|p| p.contains("/crates/") && !p.contains("kimpact-bench/src/alloc"))
-                .collect()
-        });
-        (own, 0)
+        let own = is_kimpact(paths.iter().map(String::as_str));
+        let shown = paths
+            .into_iter()
+            .filter(|p| {
+                (p.contains("/crates/") || p.contains("/rapier") || p.contains("/parry"))
+                    && !p.contains("kimpact-bench/src/alloc")
+            })
+            .collect();
+        (own, shown, 0)
     });
-    entry.1 += 1;
-    if entry.0.is_some() {
+    entry.2 += 1;
+    if entry.0 {
         OWN.fetch_add(1, Relaxed);
     }
     IN_TRACE.with(|t| t.set(false));
@@ -167,11 +171,14 @@ pub fn snapshot() -> (u64, u64) {
 
 /// Start classifying every `every`-th allocation.
 pub fn attribute(every: u64) {
-    let trace = std::env::var("KIMPACT_BENCH_TRACE_ALLOCS")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(0);
-    TRACE_LEFT.store(trace, Relaxed);
+    let var = |name: &str| {
+        std::env::var(name)
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(0)
+    };
+    TRACE_LEFT.store(var("KIMPACT_BENCH_TRACE_ALLOCS"), Relaxed);
+    TRACE_ALL.store(var("KIMPACT_BENCH_TRACE_ALL"), Relaxed);
     EVERY.store(every.max(1), Relaxed);
     SEEN.store(0, Relaxed);
     SAMPLED.store(0, Relaxed);
@@ -184,23 +191,24 @@ pub fn attribute(every: u64) {
 
 /// Stop classifying: (allocations seen, sampled, of which kimpact's,
 /// distinct stacks sampled). With `KIMPACT_BENCH_TRACE_ALLOCS=N`, print
-/// kimpact's `N` most frequent stacks (their frames in the workspace's
-/// crates) and counts to stderr.
+/// kimpact's `N` most frequent stacks and their counts to stderr; with
+/// `KIMPACT_BENCH_TRACE_ALL=N`, also rapier's `N` most frequent (frames in
+/// the workspace's crates, rapier and parry).
 pub fn stop_attribute() -> (u64, u64, u64, u64) {
     ATTRIBUTING.store(false, Relaxed);
     let stacks = STACKS.lock().unwrap_or_else(|e| e.into_inner());
     let distinct = stacks.as_ref().map_or(0, |s| s.len() as u64);
-    let mut own: Vec<(&Vec<String>, u64)> = stacks
-        .iter()
-        .flatten()
-        .filter_map(|(_, (paths, n))| Some((paths.as_ref()?, *n)))
-        .collect();
-    own.sort_by(|a, b| b.1.cmp(&a.1).then_with(|| a.0.cmp(b.0)));
-    for (paths, n) in own.iter().take(TRACE_LEFT.load(Relaxed) as usize) {
-        eprintln!(
-            "== {n} allocations in kimpact's code from\n{}",
-            paths.join("\n")
-        );
+    let mut all: Vec<&(bool, Vec<String>, u64)> = stacks.iter().flat_map(|s| s.values()).collect();
+    all.sort_by(|a, b| b.2.cmp(&a.2).then_with(|| a.1.cmp(&b.1)));
+    let own = all.iter().filter(|s| s.0);
+    let shown = own.take(TRACE_LEFT.load(Relaxed) as usize).chain(
+        all.iter()
+            .filter(|s| !s.0)
+            .take(TRACE_ALL.load(Relaxed) as usize),
+    );
+    for (own, paths, n) in shown {
+        let whose = if *own { "kimpact's" } else { "rapier's" };
+        eprintln!("== {n} allocations, {whose}, from\n{}", paths.join("\n"));
     }
     (
         SEEN.load(Relaxed),
