@@ -28,7 +28,7 @@ static EVERY: AtomicU64 = AtomicU64::new(1);
 static SEEN: AtomicU64 = AtomicU64::new(0);
 static SAMPLED: AtomicU64 = AtomicU64::new(0);
 static OWN: AtomicU64 = AtomicU64::new(0);
-static TRACE_LEFT: AtomicU64 = AtomicU64::new(0);
+static TRACE_OWN: AtomicU64 = AtomicU64::new(0);
 static TRACE_ALL: AtomicU64 = AtomicU64::new(0);
 /// Distinct stacks seen while attributing, by frame addresses: whether
 /// kimpact's, the frames' paths in the workspace's crates, rapier and
@@ -177,7 +177,7 @@ pub fn attribute(every: u64) {
             .and_then(|v| v.parse().ok())
             .unwrap_or(0)
     };
-    TRACE_LEFT.store(var("KIMPACT_BENCH_TRACE_ALLOCS"), Relaxed);
+    TRACE_OWN.store(var("KIMPACT_BENCH_TRACE_ALLOCS"), Relaxed);
     TRACE_ALL.store(var("KIMPACT_BENCH_TRACE_ALL"), Relaxed);
     EVERY.store(every.max(1), Relaxed);
     SEEN.store(0, Relaxed);
@@ -201,7 +201,7 @@ pub fn stop_attribute() -> (u64, u64, u64, u64) {
     let mut all: Vec<&(bool, Vec<String>, u64)> = stacks.iter().flat_map(|s| s.values()).collect();
     all.sort_by(|a, b| b.2.cmp(&a.2).then_with(|| a.1.cmp(&b.1)));
     let own = all.iter().filter(|s| s.0);
-    let shown = own.take(TRACE_LEFT.load(Relaxed) as usize).chain(
+    let shown = own.take(TRACE_OWN.load(Relaxed) as usize).chain(
         all.iter()
             .filter(|s| !s.0)
             .take(TRACE_ALL.load(Relaxed) as usize),

@@ -7,7 +7,7 @@
 //! machine does hits both alike; the ratio to native comes from that same
 //! process. Each mode (native too) then runs alone in another child for its
 //! peak resident memory and, in an untimed second pass, the attribution of
-//! its heap allocations to kimpact's code or rapier's (from backtraces).
+//! its heap allocations to kimpact's code or rapier's (from their stacks).
 //! The parent prints a markdown table (median time per step, ratio,
 //! allocations per step, peak RSS, the budgets of issue 6 as PASS/MISS,
 //! scaling slopes) and writes `results.csv`, `results.md` and one
@@ -251,7 +251,7 @@ pub struct Solo {
     pub allocs: u64,
     /// `VmHWM` after warm-up and the measured steps, KiB.
     pub peak_rss_kib: u64,
-    /// Whether a second pass attributed the allocations from backtraces.
+    /// Whether a second pass attributed the allocations from their stacks.
     pub attributed: bool,
     /// Allocations during that pass's measured steps, how many were
     /// classified, and how many of these were kimpact's own.

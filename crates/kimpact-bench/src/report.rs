@@ -44,18 +44,22 @@ pub struct Row {
     pub native_median_us: f64,
     /// Median of this mode over median of native, all rounds pooled.
     pub ratio: f64,
-    /// The same ratio per round: its smallest and largest value.
+    /// The same ratio per round: its smallest and largest value, and the
+    /// median of the rounds' ratios (on a host whose load changes between
+    /// rounds, the pooled ratio can fall outside every round's).
     pub ratio_min: f64,
     pub ratio_max: f64,
+    pub ratio_median_rounds: f64,
     pub allocs_per_step: f64,
     pub alloc_bytes_per_step: f64,
     pub native_allocs_per_step: f64,
     /// `allocs_per_step − native_allocs_per_step`: kimpact's share (rapier's
     /// own allocations also differ when the trajectories differ).
     pub extra_allocs_per_step: f64,
-    /// The share of the allocations whose backtraces lead to kimpact's own
-    /// code (sampled in the memory run; NaN: not attributed), that share of
-    /// `allocs_per_step`, and (kimpact's, classified) backtraces.
+    /// The share of the allocations whose stacks lead to kimpact's own code
+    /// (every allocation of the memory run's measured steps classified;
+    /// NaN: not attributed), that share of `allocs_per_step`, and
+    /// (kimpact's, classified) allocations.
     pub kimpact_alloc_share: f64,
     pub kimpact_allocs_per_step: f64,
     pub attr_sampled: (u64, u64),
@@ -74,7 +78,7 @@ pub struct Row {
 }
 
 /// The CSV's columns, in order.
-pub const COLUMNS: [&str; 36] = [
+pub const COLUMNS: [&str; 37] = [
     "scene",
     "dim",
     "precision",
@@ -93,6 +97,7 @@ pub const COLUMNS: [&str; 36] = [
     "ratio",
     "ratio_min",
     "ratio_max",
+    "ratio_median_rounds",
     "allocs_per_step",
     "alloc_bytes_per_step",
     "native_allocs_per_step",
@@ -202,8 +207,9 @@ pub fn rows(group: &Group) -> Vec<Row> {
             };
             let allocs = per_step(&law, |m| m.allocs);
             let native_allocs = per_step(&reference, |m| m.allocs);
-            // kimpact's share of the allocations (sampled backtraces of the
-            // memory run), applied to the allocations of the timed steps.
+            // kimpact's share of the allocations (the memory run's, each
+            // classified from its stack), applied to the allocations of the
+            // timed steps.
             let (share, sampled) = match solo(mode) {
                 Some(s) if s.attributed && s.attr_sampled > 0 => (
                     s.attr_own as f64 / s.attr_sampled as f64,
@@ -241,6 +247,11 @@ pub fn rows(group: &Group) -> Vec<Row> {
                 ratio: median / native_median,
                 ratio_min: per_round.iter().copied().fold(f64::NAN, f64::min),
                 ratio_max: per_round.iter().copied().fold(f64::NAN, f64::max),
+                ratio_median_rounds: {
+                    let mut sorted = per_round.clone();
+                    sorted.sort_by(f64::total_cmp);
+                    quantile(&sorted, 0.5)
+                },
                 allocs_per_step: allocs,
                 alloc_bytes_per_step: per_step(&law, |m| m.alloc_bytes),
                 native_allocs_per_step: native_allocs,
@@ -304,8 +315,8 @@ pub fn budgets(rows: &[Row]) -> Vec<Verdict> {
             config: format!("{} {} {}", r.scene.name(), r.balls, r.precision.name()),
             measured: if ok && r.rounds > 1 {
                 format!(
-                    "{:.3}x (runs {:.3}-{:.3})",
-                    r.ratio, r.ratio_min, r.ratio_max
+                    "{:.3}x (runs {:.3}-{:.3}, median of runs {:.3})",
+                    r.ratio, r.ratio_min, r.ratio_max, r.ratio_median_rounds
                 )
             } else if ok {
                 format!("{:.3}x", r.ratio)
@@ -348,7 +359,7 @@ pub fn budgets(rows: &[Row]) -> Vec<Verdict> {
         });
     }
     // No allocation per step in kimpact's own code: attributed from
-    // backtraces where available (see alloc.rs), else the total per step of
+    // stacks where available (see alloc.rs), else the total per step of
     // each law mode against native's (which also counts rapier's reaction to
     // different trajectories). Worst scene per mode.
     for mode in ModeName::ALL {
@@ -373,7 +384,7 @@ pub fn budgets(rows: &[Row]) -> Vec<Verdict> {
                     r.precision.name()
                 ),
                 measured: format!(
-                    "{:.2} of {:.1} allocs/step ({} of {} sampled backtraces in kimpact's code; native {:.1}/step)",
+                    "{:.2} of {:.1} allocs/step ({} of {} allocations of the memory run in kimpact's code; native {:.1}/step)",
                     r.kimpact_allocs_per_step,
                     r.allocs_per_step,
                     r.attr_sampled.0,
@@ -481,7 +492,7 @@ pub fn markdown(h: &Header, rows: &[Row]) -> String {
     );
     let _ = writeln!(
         s,
-        "- time/step: median {} time of one step (native's row: over all its timing runs, which differ from each other on a loaded machine); native, same runs: native's median in this mode's timing runs; ×native: the ratio of the two (range: per timing run, with --rounds > 1); allocs/step: heap allocations per measured step, all threads (in parentheses: kimpact's own, that is the share of sampled backtraces of the memory run that lead to kimpact's code, times the total); peak RSS: VmHWM of a process running that mode alone; impacts/step: resolved by the law; ΔE/E: energy change (kinetic + potential from the floor) over the measured steps\n",
+        "- time/step: median {} time of one step (native's row: over all its timing runs, which differ from each other on a loaded machine); native, same runs: native's median in this mode's timing runs; ×native: the ratio of the two (with --rounds > 1, in parentheses: the lowest and highest timing run's ratio; after the semicolon, the median of the runs' ratios); allocs/step: heap allocations per measured step, all threads (in parentheses: kimpact's own, that is the share of the memory run's allocations whose stacks lead to kimpact's code, every one classified, times the total); peak RSS: VmHWM of a process running that mode alone; impacts/step: resolved by the law; ΔE/E: energy change (kinetic + potential from the floor) over the measured steps\n",
         if h.clock == Clock::Cpu {
             "CPU (process, all threads; the CSV also has wall time)"
         } else {
@@ -517,7 +528,10 @@ pub fn markdown(h: &Header, rows: &[Row]) -> String {
             "1".to_owned()
         } else {
             if r.rounds > 1 {
-                format!("{:.3} ({:.2}-{:.2})", r.ratio, r.ratio_min, r.ratio_max)
+                format!(
+                    "{:.3} ({:.2}-{:.2}; {:.2})",
+                    r.ratio, r.ratio_min, r.ratio_max, r.ratio_median_rounds
+                )
             } else {
                 format!("{:.3}", r.ratio)
             }
@@ -620,6 +634,7 @@ pub fn csv(rows: &[Row]) -> String {
             format!("{:.4}", r.ratio),
             format!("{:.4}", r.ratio_min),
             format!("{:.4}", r.ratio_max),
+            format!("{:.4}", r.ratio_median_rounds),
             format!("{:.3}", r.allocs_per_step),
             format!("{:.1}", r.alloc_bytes_per_step),
             format!("{:.3}", r.native_allocs_per_step),

@@ -1,10 +1,10 @@
 //! The bench binary runs end to end on the smallest scene (2 warm-up and 3
-//! measured steps, every mode and precision) and writes the CSV with its
-//! columns. Nothing here looks at a timing.
+//! measured steps, every mode and precision, two rounds) and writes the CSV
+//! with its columns. Nothing here looks at a timing.
 
 use std::process::Command;
 
-const COLUMNS: [&str; 12] = [
+const COLUMNS: [&str; 13] = [
     "scene",
     "precision",
     "balls",
@@ -12,6 +12,7 @@ const COLUMNS: [&str; 12] = [
     "median_us",
     "native_median_us",
     "ratio",
+    "ratio_median_rounds",
     "allocs_per_step",
     "kimpact_allocs_per_step",
     "peak_rss_mib",
@@ -24,7 +25,7 @@ fn the_bench_runs_the_smallest_scene_and_writes_its_csv() {
     let out = std::env::temp_dir().join(format!("kimpact-bench-smoke-{}", std::process::id()));
     let output = Command::new(env!("CARGO_BIN_EXE_kimpact-bench"))
         .args(["--scene", "billiards", "--warmup", "2", "--steps", "3"])
-        .args(["--rounds", "1", "--no-attribute", "--out"])
+        .args(["--rounds", "2", "--no-attribute", "--out"])
         .arg(&out)
         .output()
         .expect("the bench binary starts");
@@ -56,6 +57,14 @@ fn the_bench_runs_the_smallest_scene_and_writes_its_csv() {
         assert_eq!(row[col("scene")], "billiards");
         let median: f64 = row[col("median_us")].parse().expect("a number");
         assert!(median > 0.0, "{row:?}");
+        if row[col("mode")] != "native" {
+            // (native's row pools its runs beside every mode: 3 x 2.)
+            assert_eq!(row[col("rounds")], "2", "{row:?}");
+            // The median of the two rounds' ratios lies between them.
+            let [lo, mid, hi] = ["ratio_min", "ratio_median_rounds", "ratio_max"]
+                .map(|c| row[col(c)].parse::<f64>().expect("a number"));
+            assert!(lo > 0.0 && lo <= mid && mid <= hi, "{row:?}");
+        }
     }
     for mode in ["native", "restitution", "impulse", "exact"] {
         assert!(rows.iter().any(|r| r[col("mode")] == mode), "no {mode} row");
