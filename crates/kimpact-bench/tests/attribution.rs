@@ -5,29 +5,29 @@
 //! in which kimpact's scratch lists grow, are seen as kimpact's. Counts,
 //! not timings.
 
-use std::process::Command;
+mod common;
 
 /// `kimpact-bench --solo --attribute` on one configuration:
 /// (allocations of the measured steps, of the attributed pass: seen,
 /// classified, kimpact's).
 fn attribute(scene: &str, mode: &str, warmup: usize, steps: usize) -> (u64, u64, u64, u64) {
-    let output = Command::new(env!("CARGO_BIN_EXE_kimpact-bench"))
-        .args(["--solo", "--attribute", "--scene", scene, "--mode", mode])
-        .args(["--precision", "f32", "--balls", "1000"])
-        .args([
-            "--warmup",
-            &warmup.to_string(),
-            "--steps",
-            &steps.to_string(),
-        ])
-        .output()
-        .expect("the bench binary starts");
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(
-        output.status.success(),
-        "kimpact-bench failed: {}\n{stdout}",
-        String::from_utf8_lossy(&output.stderr)
-    );
+    let (warmup, steps) = (warmup.to_string(), steps.to_string());
+    let stdout = common::run_bench([
+        "--solo",
+        "--attribute",
+        "--scene",
+        scene,
+        "--mode",
+        mode,
+        "--precision",
+        "f32",
+        "--balls",
+        "1000",
+        "--warmup",
+        &warmup,
+        "--steps",
+        &steps,
+    ]);
     let solo: serde_json::Value = serde_json::from_str(stdout.trim()).expect("one JSON line");
     assert_eq!(solo["attributed"], true, "{solo}");
     let field = |name: &str| solo[name].as_u64().expect(name);

@@ -2,7 +2,7 @@
 //! measured steps, every mode and precision, two rounds) and writes the CSV
 //! with its columns. Nothing here looks at a timing.
 
-use std::process::Command;
+mod common;
 
 const COLUMNS: [&str; 13] = [
     "scene",
@@ -23,18 +23,22 @@ const COLUMNS: [&str; 13] = [
 #[test]
 fn the_bench_runs_the_smallest_scene_and_writes_its_csv() {
     let out = std::env::temp_dir().join(format!("kimpact-bench-smoke-{}", std::process::id()));
-    let output = Command::new(env!("CARGO_BIN_EXE_kimpact-bench"))
-        .args(["--scene", "billiards", "--warmup", "2", "--steps", "3"])
-        .args(["--rounds", "2", "--no-attribute", "--out"])
-        .arg(&out)
-        .output()
-        .expect("the bench binary starts");
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(
-        output.status.success(),
-        "kimpact-bench failed: {}\n{stdout}",
-        String::from_utf8_lossy(&output.stderr)
-    );
+    let mut args: Vec<std::ffi::OsString> = [
+        "--scene",
+        "billiards",
+        "--warmup",
+        "2",
+        "--steps",
+        "3",
+        "--rounds",
+        "2",
+        "--no-attribute",
+        "--out",
+    ]
+    .map(Into::into)
+    .into();
+    args.push(out.clone().into());
+    let stdout = common::run_bench(args);
     assert!(
         stdout.contains("| billiards | f32 | 16 | exact |"),
         "{stdout}"
