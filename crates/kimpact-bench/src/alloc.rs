@@ -1,14 +1,13 @@
 //! A counting global allocator around `std::alloc::System`: every
 //! allocation (and reallocation) on every thread, with its size.
 //!
-//! Attribution: while [`attribute`] is on, every `n`-th allocation (every
-//! one, by default) is classified from its stack (file paths of the frames,
-//! from the allocation outwards): the first frame in kimpact's sources
+//! Attribution: while [`attribute`] is on, every allocation is classified
+//! from its stack (file paths of the frames, from the allocation outwards): the first frame in kimpact's sources
 //! (`crates/rapier-adapter/src`, `crates/kimpact/src`) makes it kimpact's
 //! own (this includes kimpact's contact hook, which rapier calls, and parry
 //! calls made by kimpact's replay); the first frame in rapier's
 //! `pipeline/physics_pipeline`, or none of the two, makes it rapier's. Each
-//! sampled allocation costs a stack walk; each distinct stack (by its frame
+//! allocation costs a stack walk; each distinct stack (by its frame
 //! addresses) is symbolized once, which needs line tables (the workspace's
 //! release profile has them). `KIMPACT_BENCH_TRACE_ALLOCS=N` prints
 //! kimpact's `N` most frequent stacks to stderr, `KIMPACT_BENCH_TRACE_ALL=N`
@@ -24,15 +23,13 @@ static COUNT: AtomicU64 = AtomicU64::new(0);
 static BYTES: AtomicU64 = AtomicU64::new(0);
 
 static ATTRIBUTING: AtomicBool = AtomicBool::new(false);
-static EVERY: AtomicU64 = AtomicU64::new(1);
 static SEEN: AtomicU64 = AtomicU64::new(0);
-static SAMPLED: AtomicU64 = AtomicU64::new(0);
 static OWN: AtomicU64 = AtomicU64::new(0);
 static TRACE_OWN: AtomicU64 = AtomicU64::new(0);
 static TRACE_ALL: AtomicU64 = AtomicU64::new(0);
 /// Distinct stacks seen while attributing, by frame addresses: whether
 /// kimpact's, the frames' paths in the workspace's crates, rapier and
-/// parry, and how many sampled allocations had that stack.
+/// parry, and how many allocations had that stack.
 type Stacks = HashMap<Box<[usize]>, (bool, Vec<String>, u64)>;
 static STACKS: Mutex<Option<Stacks>> = Mutex::new(None);
 /// Frames kept of a stack: enough to reach the pipeline's step from any
@@ -56,17 +53,14 @@ fn count(size: usize) {
     BYTES.fetch_add(size as u64, Relaxed);
 }
 
-/// Classify this allocation if it is a sampled one; `false` when it is made
-/// by the classifier itself (not counted).
+/// Classify this allocation; `false` when it is made by the classifier
+/// itself (not counted).
 #[cold]
 fn sample() -> bool {
     if IN_TRACE.with(|t| t.get()) {
         return false;
     }
-    let n = SEEN.fetch_add(1, Relaxed);
-    if !n.is_multiple_of(EVERY.load(Relaxed).max(1)) {
-        return true;
-    }
+    SEEN.fetch_add(1, Relaxed);
     IN_TRACE.with(|t| t.set(true));
     let mut ips = [0usize; DEPTH];
     let mut len = 0;
@@ -75,7 +69,6 @@ fn sample() -> bool {
         len += 1;
         len < DEPTH
     });
-    SAMPLED.fetch_add(1, Relaxed);
     let mut stacks = STACKS.lock().unwrap_or_else(|e| e.into_inner());
     let stacks = stacks.get_or_insert_with(HashMap::new);
     let entry = stacks.entry(ips[..len].into()).or_insert_with(|| {
@@ -98,8 +91,8 @@ fn sample() -> bool {
     true
 }
 
-/// The source file of every frame (inlined ones first, as they nest) of
-/// the stack `ips`, innermost first; `?` where there is none.
+/// The source file and line of every frame (inlined ones first, as they
+/// nest) of the stack `ips`, innermost first; `?` where there is none.
 fn symbolize(ips: &[usize]) -> Vec<String> {
     let mut paths = Vec::new();
     for &ip in ips {
@@ -116,8 +109,8 @@ fn symbolize(ips: &[usize]) -> Vec<String> {
 }
 
 /// Whether a stack (its frames' source paths, innermost first) reaches
-/// kimpact's sources before rapier's pipeline step (see the module docs). An allocation inside rapier's
-/// `RigidBodySet` is rapier's even when kimpact's velocity write caused it:
+/// kimpact's sources before rapier's pipeline step (see the module docs).
+/// An allocation inside rapier's `RigidBodySet` is rapier's even when kimpact's velocity write caused it:
 /// rapier hands its list of modified bodies to the pipeline at every step
 /// (`mem::take`, so the list starts again without capacity), and the list
 /// regrows for whoever sets a velocity through `RigidBodySet::get_mut`,
@@ -169,8 +162,8 @@ pub fn snapshot() -> (u64, u64) {
     (COUNT.load(Relaxed), BYTES.load(Relaxed))
 }
 
-/// Start classifying every `every`-th allocation.
-pub fn attribute(every: u64) {
+/// Start classifying every allocation.
+pub fn attribute() {
     let var = |name: &str| {
         std::env::var(name)
             .ok()
@@ -179,9 +172,7 @@ pub fn attribute(every: u64) {
     };
     TRACE_OWN.store(var("KIMPACT_BENCH_TRACE_ALLOCS"), Relaxed);
     TRACE_ALL.store(var("KIMPACT_BENCH_TRACE_ALL"), Relaxed);
-    EVERY.store(every.max(1), Relaxed);
     SEEN.store(0, Relaxed);
-    SAMPLED.store(0, Relaxed);
     OWN.store(0, Relaxed);
     if let Some(stacks) = STACKS.lock().unwrap_or_else(|e| e.into_inner()).as_mut() {
         stacks.clear();
@@ -189,12 +180,12 @@ pub fn attribute(every: u64) {
     ATTRIBUTING.store(true, Relaxed);
 }
 
-/// Stop classifying: (allocations seen, sampled, of which kimpact's,
-/// distinct stacks sampled). With `KIMPACT_BENCH_TRACE_ALLOCS=N`, print
+/// Stop classifying: (allocations classified, of which kimpact's, distinct
+/// stacks). With `KIMPACT_BENCH_TRACE_ALLOCS=N`, print
 /// kimpact's `N` most frequent stacks and their counts to stderr; with
 /// `KIMPACT_BENCH_TRACE_ALL=N`, also rapier's `N` most frequent (frames in
 /// the workspace's crates, rapier and parry).
-pub fn stop_attribute() -> (u64, u64, u64, u64) {
+pub fn stop_attribute() -> (u64, u64, u64) {
     ATTRIBUTING.store(false, Relaxed);
     let stacks = STACKS.lock().unwrap_or_else(|e| e.into_inner());
     let distinct = stacks.as_ref().map_or(0, |s| s.len() as u64);
@@ -210,12 +201,7 @@ pub fn stop_attribute() -> (u64, u64, u64, u64) {
         let whose = if *own { "kimpact's" } else { "rapier's" };
         eprintln!("== {n} allocations, {whose}, from\n{}", paths.join("\n"));
     }
-    (
-        SEEN.load(Relaxed),
-        SAMPLED.load(Relaxed),
-        OWN.load(Relaxed),
-        distinct,
-    )
+    (SEEN.load(Relaxed), OWN.load(Relaxed), distinct)
 }
 
 #[cfg(test)]
