@@ -2,16 +2,16 @@
 //! allocation (and reallocation) on every thread, with its size.
 //!
 //! Attribution: while [`attribute`] is on, every allocation is classified
-//! from its stack (file paths of the frames, from the allocation outwards): the first frame in kimpact's sources
-//! (`crates/rapier-adapter/src`, `crates/kimpact/src`) makes it kimpact's
-//! own (this includes kimpact's contact hook, which rapier calls, and parry
-//! calls made by kimpact's replay); the first frame in rapier's
-//! `pipeline/physics_pipeline`, or none of the two, makes it rapier's. Each
-//! allocation costs a stack walk; each distinct stack (by its frame
-//! addresses) is symbolized once, which needs line tables (the workspace's
-//! release profile has them). `KIMPACT_BENCH_TRACE_ALLOCS=N` prints
-//! kimpact's `N` most frequent stacks to stderr, `KIMPACT_BENCH_TRACE_ALL=N`
-//! rapier's (see [`stop_attribute`]).
+//! from its stack (file paths of the frames, from the allocation outwards):
+//! the first frame in kimpact's sources (`crates/rapier-adapter/src`,
+//! `crates/kimpact/src`) makes it kimpact's own (this includes kimpact's
+//! contact hook, which rapier calls, and parry calls made by kimpact's
+//! replay); the first frame in rapier's `pipeline/physics_pipeline`, or none
+//! of the two, makes it rapier's. Each allocation costs a stack walk; each
+//! distinct stack (by its frame addresses) is symbolized once, which needs
+//! line tables (the workspace's release profile has them).
+//! `KIMPACT_BENCH_TRACE_ALLOCS=N` prints kimpact's `N` most frequent stacks
+//! to stderr, `KIMPACT_BENCH_TRACE_ALL=N` rapier's (see [`stop_attribute`]).
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
@@ -110,11 +110,11 @@ fn symbolize(ips: &[usize]) -> Vec<String> {
 
 /// Whether a stack (its frames' source paths, innermost first) reaches
 /// kimpact's sources before rapier's pipeline step (see the module docs).
-/// An allocation inside rapier's `RigidBodySet` is rapier's even when kimpact's velocity write caused it:
-/// rapier hands its list of modified bodies to the pipeline at every step
-/// (`mem::take`, so the list starts again without capacity), and the list
-/// regrows for whoever sets a velocity through `RigidBodySet::get_mut`,
-/// kimpact or the user's own code.
+/// An allocation inside rapier's `RigidBodySet` is rapier's even when
+/// kimpact's velocity write caused it: rapier hands its list of modified
+/// bodies to the pipeline at every step (`mem::take`, so the list starts
+/// again without capacity), and the list regrows for whoever sets a
+/// velocity through `RigidBodySet::get_mut`, kimpact or the user's own code.
 fn is_kimpact<'a>(paths: impl IntoIterator<Item = &'a str>) -> bool {
     for path in paths {
         if path.contains("rapier-adapter/src/") || path.contains("crates/kimpact/src/") {

@@ -198,13 +198,15 @@ pub fn rows(group: &Group) -> Vec<Row> {
             let times = sorted_times(law.iter().copied(), clock);
             let median = quantile(&times, 0.5);
             let native_median = quantile(&sorted_times(reference.iter().copied(), clock), 0.5);
-            let per_round: Vec<f64> = if mode == ModeName::Native {
+            // Each round's ratio, sorted (for the median of rounds).
+            let mut per_round: Vec<f64> = if mode == ModeName::Native {
                 Vec::new()
             } else {
                 mine.iter()
                     .map(|p| median_of(&p.law, clock) / median_of(&p.native, clock))
                     .collect()
             };
+            per_round.sort_by(f64::total_cmp);
             let allocs = per_step(&law, |m| m.allocs);
             let native_allocs = per_step(&reference, |m| m.allocs);
             // kimpact's share of the allocations (the memory run's, each
@@ -247,11 +249,7 @@ pub fn rows(group: &Group) -> Vec<Row> {
                 ratio: median / native_median,
                 ratio_min: per_round.iter().copied().fold(f64::NAN, f64::min),
                 ratio_max: per_round.iter().copied().fold(f64::NAN, f64::max),
-                ratio_median_rounds: {
-                    let mut sorted = per_round.clone();
-                    sorted.sort_by(f64::total_cmp);
-                    quantile(&sorted, 0.5)
-                },
+                ratio_median_rounds: quantile(&per_round, 0.5),
                 allocs_per_step: allocs,
                 alloc_bytes_per_step: per_step(&law, |m| m.alloc_bytes),
                 native_allocs_per_step: native_allocs,

@@ -109,6 +109,13 @@ struct Pair {
     next: [u32; 2],
 }
 
+impl Pair {
+    /// Which of [`Pair::next`] threads node `n`'s list (`n` is `a` or `b`).
+    fn side(&self, n: usize) -> usize {
+        usize::from(self.a != n)
+    }
+}
+
 /// The pairs' next meetings, earliest first: an indexed binary min-heap
 /// with at most one entry per pair, keyed by (time, pair index) so that
 /// the order of equal times never depends on the heap's history. A pair's
@@ -970,7 +977,7 @@ impl Replay {
                 [NO_PAIR, _] => self.ends[n] = [i as u32; 2],
                 [_, last] => {
                     let last = last as usize;
-                    let side = usize::from(self.pairs[last].a != n);
+                    let side = self.pairs[last].side(n);
                     self.pairs[last].next[side] = i as u32;
                     self.ends[n][1] = i as u32;
                 }
@@ -982,7 +989,7 @@ impl Replay {
     /// The pair after pair `i` in node `n`'s list (`n` is one of its two).
     fn next_pair(&self, i: usize, n: usize) -> u32 {
         let p = &self.pairs[i];
-        p.next[usize::from(p.a != n)]
+        p.next[p.side(n)]
     }
 
     /// Node `n`'s pairs, in the order they were added.
