@@ -591,3 +591,44 @@ fn a_pair_deferred_by_the_sweep_still_meets_after_an_impact() {
         );
     }
 }
+
+/// Impacts at one instant are taken the fastest approach first, whatever
+/// order the bodies were added in: a ball driven into two balls it
+/// overlaps, one straight ahead and one at 53°, gives the head-on one all
+/// of its momentum (equal masses, elastic), with the balls added in either
+/// order. (Taken in the order the replay found the pairs instead, the
+/// oblique pair went first, in both orders.)
+#[test]
+fn simultaneous_impacts_do_not_depend_on_the_order_balls_were_added() {
+    let at = |x: Real, y: Real| Vector::X * x + Vector::Y * y;
+    let speed: Real = 10.0;
+    let run = |ahead_first: bool| -> [Vector; 4] {
+        let mut w = TestWorld::new(Mode::Exact, 0.0, Vector::ZERO);
+        // A meets B a third of the way into the step.
+        let (a, _) = w.ball(at(-1.05, 0.0), at(speed, 0.0), 0.5, 1.0);
+        let (b, _) = w.ball(at(0.0, 0.0), Vector::ZERO, 0.5, 1.0);
+        // Both overlap B by 0.001.
+        let ahead = at(0.999, 0.0);
+        let oblique = at(0.6, 0.8) * 0.999;
+        let mut add = |p: Vector| w.ball(p, Vector::ZERO, 0.5, 1.0).0;
+        let (c, d) = if ahead_first {
+            let c = add(ahead);
+            (c, add(oblique))
+        } else {
+            let d = add(oblique);
+            (add(ahead), d)
+        };
+        w.step();
+        [a, b, c, d].map(|h| w.vel(h))
+    };
+    let (x, y) = (run(true), run(false));
+    for (i, (u, v)) in x.iter().zip(&y).enumerate() {
+        assert!(
+            f64::from((*u - *v).length()) < 1e-3 * f64::from(speed),
+            "ball {i}: {u:?} added one way, {v:?} the other"
+        );
+    }
+    // The head-on ball has A's momentum, the oblique one almost none.
+    assert!(f64::from(x[2].x) > 0.99 * f64::from(speed), "{x:?}");
+    assert!(f64::from(x[3].length()) < 0.01 * f64::from(speed), "{x:?}");
+}
