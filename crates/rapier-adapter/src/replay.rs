@@ -1998,15 +1998,18 @@ impl Replay {
             }
             for n in [pair.a, pair.b] {
                 // The pairs listed now (a prediction adds none, but the
-                // list is walked up to its present end regardless).
-                let [mut i, last] = self.ends[n];
-                while i != NO_PAIR {
-                    let next = self.next_pair(i as usize, n);
-                    self.predict(bodies, colliders, i as usize, from, dt, false);
-                    if i == last {
+                // list is walked up to its present end regardless); the
+                // impact's own pair once, in `a`'s list.
+                let [mut j, last] = self.ends[n];
+                while j != NO_PAIR {
+                    let next = self.next_pair(j as usize, n);
+                    if n == pair.a || j as usize != i {
+                        self.predict(bodies, colliders, j as usize, from, dt, false);
+                    }
+                    if j == last {
                         break;
                     }
-                    i = next;
+                    j = next;
                 }
             }
         }
