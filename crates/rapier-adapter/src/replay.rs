@@ -867,8 +867,9 @@ impl Replay {
         self.leaves.clear();
     }
 
-    /// The node of collider `collider` (whose parent is `parent`), made
-    /// if the run has none yet.
+    /// The node of collider `collider` (whose parent is `parent`): its
+    /// body's, or its own for a collider without a body; made if the run
+    /// has none yet.
     fn node(
         &mut self,
         k: &Kimpact,
@@ -880,7 +881,14 @@ impl Replay {
         if let Some(n) = self.collider_node(collider) {
             return n;
         }
-        let n = self.key_node(k, bodies, collider, parent, dt);
+        // A body's node may have been made for another of its colliders.
+        let n = match parent {
+            Some(h) => match self.body_node(Some(h)) {
+                Some(n) => n,
+                None => self.new_node(k, bodies, Key::Body(h), dt),
+            },
+            None => self.new_node(k, bodies, Key::Collider(collider), dt),
+        };
         let index = collider.into_raw_parts().0 as usize;
         if self.collider_slots.len() <= index {
             self.collider_slots.resize(index + 1, Slot::default());
@@ -912,30 +920,12 @@ impl Replay {
         })
     }
 
-    /// The node of body `parent`, or of collider `collider` when it has no
-    /// body, made if the run has none yet.
-    fn key_node(
-        &mut self,
-        k: &Kimpact,
-        bodies: &RigidBodySet,
-        collider: ColliderHandle,
-        parent: Option<RigidBodyHandle>,
-        dt: Real,
-    ) -> usize {
-        let key = match parent {
-            Some(h) => Key::Body(h),
-            None => Key::Collider(collider),
+    /// A new node for `key` (a body, or a collider without one).
+    fn new_node(&mut self, k: &Kimpact, bodies: &RigidBodySet, key: Key, dt: Real) -> usize {
+        let parent = match key {
+            Key::Body(h) => Some(h),
+            Key::Collider(_) => None,
         };
-        let (slots, index) = match key {
-            Key::Body(h) => (&mut self.body_slots, h.into_raw_parts().0 as usize),
-            Key::Collider(c) => (&mut self.collider_slots, c.into_raw_parts().0 as usize),
-        };
-        if slots.len() <= index {
-            slots.resize(index + 1, Slot::default());
-        }
-        if slots[index].stamp == self.stamp {
-            return slots[index].node as usize;
-        }
         let rb = parent.and_then(|h| bodies.get(h));
         let node = match rb {
             Some(rb) if rb.is_dynamic() && self.phase == Phase::Pre => {
@@ -1034,13 +1024,15 @@ impl Replay {
         let i = self.nodes.len();
         self.nodes.push(node);
         self.ends.push([NO_PAIR; 2]);
-        let slot = Slot {
-            stamp: self.stamp,
-            node: i as u32,
-        };
-        match key {
-            Key::Body(h) => self.body_slots[h.into_raw_parts().0 as usize] = slot,
-            Key::Collider(c) => self.collider_slots[c.into_raw_parts().0 as usize] = slot,
+        if let Key::Body(h) = key {
+            let index = h.into_raw_parts().0 as usize;
+            if self.body_slots.len() <= index {
+                self.body_slots.resize(index + 1, Slot::default());
+            }
+            self.body_slots[index] = Slot {
+                stamp: self.stamp,
+                node: i as u32,
+            };
         }
         i
     }
