@@ -306,6 +306,20 @@ struct Slot {
     node: u32,
 }
 
+impl Slot {
+    /// `slots[index]` is `node` in the run stamped `stamp`.
+    fn set(slots: &mut Vec<Slot>, index: u32, stamp: u32, node: usize) {
+        let index = index as usize;
+        if slots.len() <= index {
+            slots.resize(index + 1, Slot::default());
+        }
+        slots[index] = Slot {
+            stamp,
+            node: node as u32,
+        };
+    }
+}
+
 /// When the replay runs, relative to rapier's step.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
 enum Phase {
@@ -889,14 +903,8 @@ impl Replay {
             },
             None => self.new_node(k, bodies, Key::Collider(collider), dt),
         };
-        let index = collider.into_raw_parts().0 as usize;
-        if self.collider_slots.len() <= index {
-            self.collider_slots.resize(index + 1, Slot::default());
-        }
-        self.collider_slots[index] = Slot {
-            stamp: self.stamp,
-            node: n as u32,
-        };
+        let index = collider.into_raw_parts().0;
+        Slot::set(&mut self.collider_slots, index, self.stamp, n);
         n
     }
 
@@ -1025,14 +1033,7 @@ impl Replay {
         self.nodes.push(node);
         self.ends.push([NO_PAIR; 2]);
         if let Key::Body(h) = key {
-            let index = h.into_raw_parts().0 as usize;
-            if self.body_slots.len() <= index {
-                self.body_slots.resize(index + 1, Slot::default());
-            }
-            self.body_slots[index] = Slot {
-                stamp: self.stamp,
-                node: i as u32,
-            };
+            Slot::set(&mut self.body_slots, h.into_raw_parts().0, self.stamp, i);
         }
         i
     }
