@@ -182,6 +182,12 @@ impl PairQueue {
         self.slot[entry.2 as usize] = at as u32 | if h == 1 { Self::LATER } else { 0 };
     }
 
+    /// The heap of a meeting at time `t`: the first at `now`.
+    #[inline]
+    fn heap_for(&self, t: Real) -> usize {
+        usize::from(t != self.now)
+    }
+
     /// Pair `pair` next meets at time `t` with rank `r`: `Some((t, r))`
     /// (`None`: not this step).
     fn set(&mut self, pair: usize, meeting: Option<(Real, Real)>) {
@@ -195,7 +201,7 @@ impl PairQueue {
                 (old & !Self::LATER) as usize,
             );
             match meeting {
-                Some((t, r)) if usize::from(t != self.now) == h => {
+                Some((t, r)) if self.heap_for(t) == h => {
                     let entry = (t, r, pair as u32);
                     if Self::before(entry, self.heaps[h][at]) {
                         self.sift_up(h, at, entry);
@@ -208,29 +214,30 @@ impl PairQueue {
             }
         }
         if let Some((t, r)) = meeting {
-            let h = usize::from(t != self.now);
+            let h = self.heap_for(t);
             self.heaps[h].push((t, r, pair as u32));
             self.sift_up(h, self.heaps[h].len() - 1, (t, r, pair as u32));
         }
     }
 
-    /// The earliest entry's time.
-    fn peek(&self) -> Option<Real> {
+    /// The heap whose top comes first (`None`: the queue is empty).
+    fn first_heap(&self) -> Option<usize> {
         match (self.heaps[0].first(), self.heaps[1].first()) {
-            (Some(&a), Some(&b)) => Some(if Self::before(a, b) { a.0 } else { b.0 }),
-            (Some(e), None) | (None, Some(e)) => Some(e.0),
+            (Some(&a), Some(&b)) => Some(usize::from(Self::before(b, a))),
+            (Some(_), None) => Some(0),
+            (None, Some(_)) => Some(1),
             (None, None) => None,
         }
     }
 
+    /// The earliest entry's time.
+    fn peek(&self) -> Option<Real> {
+        self.first_heap().map(|h| self.heaps[h][0].0)
+    }
+
     /// Take the earliest entry.
     fn pop(&mut self) -> Option<(Real, usize)> {
-        let h = match (self.heaps[0].first(), self.heaps[1].first()) {
-            (Some(&a), Some(&b)) => usize::from(Self::before(b, a)),
-            (Some(_), None) => 0,
-            (None, Some(_)) => 1,
-            (None, None) => return None,
-        };
+        let h = self.first_heap()?;
         let first = self.heaps[h][0];
         self.remove_at(h, 0);
         if self.heaps[0].is_empty() {
