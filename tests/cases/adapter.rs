@@ -592,6 +592,42 @@ fn a_pair_deferred_by_the_sweep_still_meets_after_an_impact() {
     }
 }
 
+/// After the step, a pair of balls apart at the instant of an impact that
+/// bends either ball's path is predicted again once that instant is over
+/// (not after each of its impacts), and still meets within the step. Ball
+/// D creeps towards ball B (it would take 0.1 s to touch it), so their
+/// pair is in the replay, predicted not to meet this step; ball A then
+/// hits B head-on a half step in, and B must carry its speed on into D
+/// within the same step.
+#[test]
+fn a_pair_apart_at_an_impact_is_predicted_again_after_that_instant() {
+    let at = |x: Real, y: Real| Vector::X * x + Vector::Y * y;
+    let speed: Real = 6.0;
+    let mut w = TestWorld::new(Mode::Exact, 0.0, Vector::ZERO);
+    // A meets B at t = 0.05 / 6 (dt = 1/60); B is then 0.01 from D.
+    let (_, ca) = w.ball(at(-1.05, 0.0), at(speed, 0.0), 0.5, 1.0);
+    let (_, cb) = w.ball(at(0.0, 0.0), Vector::ZERO, 0.5, 1.0);
+    let (d, cd) = w.ball(at(1.01, 0.0), at(-0.1, 0.0), 0.5, 1.0);
+    w.step();
+    let time = |x: ColliderHandle, y: ColliderHandle| {
+        w.kimpact
+            .events()
+            .iter()
+            .find(|e| (e.collider1 == x && e.collider2 == y) || (e.collider1 == y && e.collider2 == x))
+            .map(|e| f64::from(e.time))
+    };
+    let ab = time(ca, cb).expect("A meets B in the first step");
+    assert!(ab > 0.0, "A met B at {ab}, not within the step");
+    let bd = time(cb, cd);
+    assert!(
+        bd.is_some_and(|t| t > ab && t < 1.0 / 60.0),
+        "A met B at {ab}, then B met D at {bd:?}, not in the same step"
+    );
+    // Elastic, equal masses, head-on: D leaves with A's speed (and its own
+    // small one given to B).
+    assert!(f64::from(w.vel(d).x) > 0.99 * f64::from(speed), "{:?}", w.vel(d));
+}
+
 /// Impacts at one instant are taken the fastest approach first, whatever
 /// order the bodies were added in: a ball driven into two balls it
 /// overlaps, one straight ahead and one at 53°, gives the head-on one all

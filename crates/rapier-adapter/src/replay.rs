@@ -83,6 +83,18 @@ impl Node {
         self.p + self.v * (t - self.t_ref)
     }
 
+    /// The velocity the law meets the body with at time `t`. After the
+    /// step, `u` is the velocity at its end: the law meets the bodies at
+    /// `t`, before gravity's share of the rest of the step (which they keep
+    /// afterwards). Against a fixed partner this is what keeps a bouncing
+    /// ball from gaining `m g dt` of momentum, and energy, at every bounce.
+    fn law_velocity(&self, phase: Phase, t: Real, dt: Real) -> Vector {
+        match phase {
+            Phase::Post => self.u - self.g_dt * ((dt - t) / dt),
+            Phase::Pre => self.u,
+        }
+    }
+
     /// `rest`, the pose of one of the node's colliders where the node is
     /// now (`x1`), carried along the node's path to time `t`.
     fn moved(&self, rest: Pose, t: Real) -> Pose {
@@ -107,6 +119,10 @@ struct Pair {
     /// point (see [`crate::cast::Hit`]).
     normal: Vector,
     point: Vector,
+    /// The instant at which the pair, two balls apart then, waits in
+    /// [`Replay::apart`] to be predicted (see [`Replay::defer_if_apart`]);
+    /// −∞ when it does not.
+    apart_at: Real,
     /// The next pair of node `a`'s list and of node `b`'s (`NO_PAIR` at the
     /// end; see [`Replay::ends`]).
     next: [u32; 2],
@@ -402,6 +418,10 @@ pub(crate) struct Replay {
     /// instant being resolved: swept once the instant is over, along their
     /// last path (see [`Replay::resolve`]).
     bent: Vec<(usize, ColliderHandle)>,
+    /// The pairs of balls apart at the instant being resolved whose bodies
+    /// an impact there bent: predicted once the instant is over (see
+    /// [`Replay::defer_if_apart`]).
+    apart: Vec<u32>,
     /// Scratch of a single sweep: the collider indices it met.
     met: Vec<u32>,
     /// rapier's broad-phase boxes in a grid, for the single sweeps of a run
@@ -883,6 +903,7 @@ impl Replay {
         }
         self.pairs.clear();
         self.bent.clear();
+        self.apart.clear();
         self.deferred_range.clear();
         self.queue.clear();
         self.leaves.clear();
@@ -1082,6 +1103,7 @@ impl Replay {
             balls,
             normal: Vector::ZERO,
             point: Vector::ZERO,
+            apart_at: Real::NEG_INFINITY,
             next: [NO_PAIR; 2],
         });
         for n in [a, b] {
@@ -1233,6 +1255,15 @@ impl Replay {
         }
         self.pairs[i].normal = normal;
         self.pairs[i].point = point;
+        let (na, nb) = (&self.nodes[pair.a], &self.nodes[pair.b]);
+        if !self.takes(na, nb, normal, t, dt) {
+            // The law would not act there: not queued at all (half of
+            // the meetings a settling pile predicts at one instant are
+            // overlapping pairs that rapier's paths bring together but
+            // that approach slower than the rest speed).
+            self.queue.set(i, None);
+            return;
+        }
         // Meetings at the same instant (a pile's overlapping cluster) are
         // taken the fastest approach first: the order then does not depend
         // on the order in which the pairs were found (rapier's collider
@@ -1240,6 +1271,59 @@ impl Replay {
         // instead of 21,500 per step in the 10,000-ball 2D pit).
         let rank = (self.nodes[pair.b].u - self.nodes[pair.a].u).dot(normal);
         self.queue.set(i, Some((t, rank)));
+    }
+
+    /// After an impact at instant `at` (≥ 0, after the step), whether pair
+    /// `i` is two balls apart then: it cannot meet at that instant, and
+    /// where it meets later depends only on the velocities its bodies have
+    /// when the instant is over, so it is predicted once then (pushed to
+    /// [`Replay::apart`]), not after every impact of the instant. Its
+    /// bodies' positions at `at` do not change within the instant (a path
+    /// bends there), so the test holds for the whole instant. Before the
+    /// step a path restarts from the start of the step, and an impact
+    /// rewound before it (`t < 0`) moves the bodies at `0`: neither defers.
+    fn defer_if_apart(&mut self, i: usize, at: Real) -> bool {
+        let pair = &self.pairs[i];
+        if pair.apart_at == at {
+            return true;
+        }
+        let Some([(r1, o1), (r2, o2)]) = pair.balls else {
+            return false;
+        };
+        // As `cast::ball_ball` tests it.
+        let gap = (self.nodes[pair.b].at(at) + o2) - (self.nodes[pair.a].at(at) + o1);
+        let reach = r1 + r2;
+        if (gap.length_squared() - reach * reach).partial_cmp(&0.0) != Some(Ordering::Greater) {
+            return false;
+        }
+        self.pairs[i].apart_at = at;
+        self.apart.push(i as u32);
+        true
+    }
+
+    /// Whether the law takes an impact of nodes `a` and `b` meeting at time
+    /// `t` with world normal `normal` (from `a` towards `b`): they approach
+    /// faster than the rest speed, and faster than rounding level relative
+    /// to their speeds. Slower, the contact is a resting one (rapier's);
+    /// and without gravity the rest speed is 0, where a dissipative law
+    /// (grazing impacts are clamped to e = 1e-3) would otherwise chase an
+    /// inelastic collapse, three touching balls exchanging ever smaller
+    /// impulses forever. Anything not finite is taken, for the law's checks
+    /// to refuse and count.
+    fn takes(&self, a: &Node, b: &Node, normal: Vector, t: Real, dt: Real) -> bool {
+        let (va, vb) = (
+            a.law_velocity(self.phase, t, dt),
+            b.law_velocity(self.phase, t, dt),
+        );
+        let approach = (va - vb).dot(normal);
+        // Not at or below (NaN passes).
+        let above = |x: Real| {
+            !matches!(
+                approach.partial_cmp(&x),
+                Some(Ordering::Less | Ordering::Equal)
+            )
+        };
+        above(self.rest_speed) && above(REST_FLOOR * (a.u.length() + b.u.length()))
     }
 
     /// The linear cast ([`crate::cast`]) of pair `pair` from time `from`, over
@@ -1753,15 +1837,7 @@ impl Replay {
             }
         }
         self.sweep_fast_bodies(k, bodies, colliders, broad_phase, dt);
-        self.resolve(
-            k,
-            bodies,
-            colliders,
-            narrow_phase,
-            broad_phase,
-            dt,
-            rest_speed,
-        );
+        self.resolve(k, bodies, colliders, narrow_phase, broad_phase, dt);
         // In node order, as a walk over every node would take them.
         self.hit.sort_unstable();
         for &n in &self.hit {
@@ -1824,15 +1900,7 @@ impl Replay {
             }
         }
         self.sweep_fast_bodies(k, bodies, colliders, broad_phase, dt);
-        self.resolve(
-            k,
-            bodies,
-            colliders,
-            narrow_phase,
-            broad_phase,
-            dt,
-            rest_speed,
-        );
+        self.resolve(k, bodies, colliders, narrow_phase, broad_phase, dt);
         // Write back the bodies whose path the law bent, in node order.
         self.hit.sort_unstable();
         for &n in &self.hit {
@@ -1862,7 +1930,6 @@ impl Replay {
         narrow_phase: &NarrowPhase,
         broad_phase: &BroadPhaseBvh,
         dt: Real,
-        rest_speed: Real,
     ) {
         let max_events = k.config_ref().max_events_per_step;
         let mut events = 0usize;
@@ -1875,7 +1942,16 @@ impl Replay {
             // the last velocity it got then (the paths of the impacts in
             // between last no time). The sweep may bring in pairs meeting
             // at that instant still: the loop takes them before any later.
-            if !self.bent.is_empty() && self.queue.peek().is_none_or(|t| t.max(0.0) > instant) {
+            if !(self.bent.is_empty() && self.apart.is_empty())
+                && self.queue.peek().is_none_or(|t| t.max(0.0) > instant)
+            {
+                let apart = std::mem::take(&mut self.apart);
+                for &j in &apart {
+                    self.pairs[j as usize].apart_at = Real::NEG_INFINITY;
+                    self.predict(bodies, colliders, j as usize, instant, dt, false);
+                }
+                self.apart = apart;
+                self.apart.clear();
                 let bent = std::mem::take(&mut self.bent);
                 for &(n, collider) in &bent {
                     self.nodes[n].sweep_due = None;
@@ -1889,6 +1965,11 @@ impl Replay {
                 break;
             };
             let pair = self.pairs[i];
+            if pair.apart_at == t {
+                // Queued before an impact at this instant bent either body:
+                // predicted again once the instant is over.
+                continue;
+            }
             if events >= max_events {
                 k.count_cap_hit();
                 log::warn!(
@@ -1914,22 +1995,13 @@ impl Replay {
             let ma = mass(pair.a, pair.c1);
             let mb = mass(pair.b, pair.c2);
             let (na, nb) = (self.nodes[pair.a], self.nodes[pair.b]);
-            // After the step, `u` is the velocity at its end: the law meets
-            // the bodies at `t`, before gravity's share of the rest of the
-            // step (which they keep afterwards). Against a fixed partner this
-            // is what keeps a bouncing ball from gaining `m g dt` of
-            // momentum, and energy, at every bounce.
-            let at = |n: &Node| match self.phase {
-                Phase::Post => n.u - n.g_dt * ((dt - t) / dt),
-                Phase::Pre => n.u,
-            };
             let la = LawBody {
                 mass: ma,
-                velocity: at(&na),
+                velocity: na.law_velocity(self.phase, t, dt),
             };
             let lb = LawBody {
                 mass: mb,
-                velocity: at(&nb),
+                velocity: nb.law_velocity(self.phase, t, dt),
             };
             let candidate = Candidate {
                 collider1: pair.c1,
@@ -1944,18 +2016,11 @@ impl Replay {
                 k.skip(&candidate);
                 continue;
             };
+            // The pair approaches faster than the rest speed: `predict`
+            // queued it only then, and neither velocity has changed since.
             let Some(impact) = k.law_ref().resolve_unit(&ba, &bb, &to_law(pair.normal)) else {
                 continue;
             };
-            // A resting contact (rapier's), or an approach at rounding level
-            // relative to the bodies' speeds: without gravity the rest speed
-            // is 0, and a dissipative law (grazing impacts are clamped to
-            // e = 1e-3) would otherwise chase an inelastic collapse, three
-            // touching balls exchanging ever smaller impulses forever.
-            let floor = REST_FLOOR * (na.u.length() + nb.u.length());
-            if impact.approach_speed <= rest_speed.max(floor) {
-                continue;
-            }
             events += 1;
             for (n, dv) in [(pair.a, impact.delta_v_a), (pair.b, impact.delta_v_b)] {
                 let node = &mut self.nodes[n];
@@ -1996,6 +2061,7 @@ impl Replay {
                     }
                 }
             }
+            let defer = self.phase == Phase::Post && t == from;
             for n in [pair.a, pair.b] {
                 // The pairs listed now (a prediction adds none, but the
                 // list is walked up to its present end regardless); the
@@ -2003,7 +2069,9 @@ impl Replay {
                 let [mut j, last] = self.ends[n];
                 while j != NO_PAIR {
                     let next = self.next_pair(j as usize, n);
-                    if n == pair.a || j as usize != i {
+                    if (n == pair.a || j as usize != i)
+                        && !(defer && self.defer_if_apart(j as usize, from))
+                    {
                         self.predict(bodies, colliders, j as usize, from, dt, false);
                     }
                     if j == last {
