@@ -95,6 +95,14 @@ impl Node {
         }
     }
 
+    /// The box a ball riding the node's path sweeps from `from` to `to`:
+    /// its centre (`ball.1` off the path) ± its radius `ball.0`, as parry's.
+    fn swept_ball(&self, (radius, offset): BallOnPath, from: Real, to: Real) -> Aabb {
+        let r = Vector::splat(radius);
+        let (start, end) = (self.at(from) + offset, self.at(to) + offset);
+        Aabb::new(start.min(end) - r, start.max(end) + r)
+    }
+
     /// `rest`, the pose of one of the node's colliders where the node is
     /// now (`x1`), carried along the node's path to time `t`.
     fn moved(&self, rest: Pose, t: Real) -> Pose {
@@ -103,6 +111,10 @@ impl Node {
         pose
     }
 }
+
+/// A ball riding a node's path: its radius, and where its centre sits
+/// relative to the path (`centre(t) = node.at(t) + offset`).
+type BallOnPath = (Real, Vector);
 
 #[derive(Copy, Clone, Debug)]
 struct Pair {
@@ -114,7 +126,7 @@ struct Pair {
     /// their nodes' paths (`centre(t) = node.at(t) + offset`), so that a
     /// cast of the pair reads neither collider nor body. `None` for any
     /// other pair of shapes.
-    balls: Option<[(Real, Vector); 2]>,
+    balls: Option<[BallOnPath; 2]>,
     /// The queued meeting's world normal (from `c1` towards `c2`) and
     /// point (see [`crate::cast::Hit`]).
     normal: Vector,
@@ -417,7 +429,9 @@ pub(crate) struct Replay {
     /// The colliders (with their nodes) whose path an impact bent at the
     /// instant being resolved: swept once the instant is over, along their
     /// last path (see [`Replay::resolve`]).
-    bent: Vec<(usize, ColliderHandle)>,
+    /// With each, the collider's radius and centre offset when a pair of
+    /// balls gave them (see [`Replay::swept_aabb`]).
+    bent: Vec<(usize, ColliderHandle, Option<BallOnPath>)>,
     /// The pairs of balls apart at the instant being resolved whose bodies
     /// an impact there bent: predicted once the instant is over (see
     /// [`Replay::defer_if_apart`]).
@@ -439,7 +453,7 @@ struct Sweeper {
     /// The box it sweeps.
     aabb: Aabb,
     /// Its radius and centre offset if it is a ball (see [`Pair::balls`]).
-    ball: Option<(Real, Vector)>,
+    ball: Option<BallOnPath>,
 }
 
 /// A uniform grid of boxes (the swept boxes of the bulk sweep), in
@@ -792,9 +806,9 @@ impl LeafGrid {
 /// whether a pair may be deferred, must agree.
 fn cast_balls(
     n1: &Node,
-    (r1, o1): (Real, Vector),
+    (r1, o1): BallOnPath,
     n2: &Node,
-    (r2, o2): (Real, Vector),
+    (r2, o2): BallOnPath,
     from: Real,
     window: Real,
 ) -> Option<crate::cast::Hit> {
@@ -1214,7 +1228,7 @@ impl Replay {
         colliders: &ColliderSet,
         n: usize,
         c: ColliderHandle,
-    ) -> Option<(Real, Vector)> {
+    ) -> Option<BallOnPath> {
         let co = colliders.get(c)?;
         let radius = co.shape().as_ball()?.radius;
         Some((radius, rest_pose(bodies, co).translation - self.nodes[n].x1))
@@ -1434,7 +1448,7 @@ impl Replay {
                 continue;
             }
             let n = self.node(k, bodies, ch, Some(handle), dt);
-            if let Some((aabb, ball)) = self.swept_aabb(bodies, colliders, ch, n, 0.0, dt) {
+            if let Some((aabb, ball)) = self.swept_aabb(bodies, colliders, ch, n, 0.0, dt, None) {
                 sweepers.push(Sweeper {
                     collider: ch,
                     node: n,
@@ -1462,6 +1476,9 @@ impl Replay {
     /// step, if it moves far enough over that time to be swept (more than
     /// half its size, or more than `sweep_reach`); with it, the collider's
     /// radius and centre offset if it is a ball (as [`Replay::ball`]).
+    /// `known` is that radius and offset when the caller has them (a pair
+    /// of balls keeps them): then neither the collider nor its body is read.
+    #[allow(clippy::too_many_arguments)]
     fn swept_aabb(
         &self,
         bodies: &RigidBodySet,
@@ -1470,43 +1487,50 @@ impl Replay {
         n: usize,
         from: Real,
         dt: Real,
-    ) -> Option<(Aabb, Option<(Real, Vector)>)> {
-        let co = colliders.get(ch)?;
-        let moved = self.nodes[n].v * (dt - from);
-        let ball = co.shape().as_ball();
-        let half = match ball {
-            Some(ball) => ball.radius,
-            None => {
-                let aabb = co.compute_aabb();
-                0.5 * (aabb.maxs - aabb.mins).min_element()
-            }
-        };
-        if moved.length() <= half.min(self.sweep_reach) {
-            return None;
-        }
-        let grow = match self.phase {
-            Phase::Pre => 2.0 * moved.length(),
-            Phase::Post => 0.0,
-        };
+        known: Option<BallOnPath>,
+    ) -> Option<(Aabb, Option<BallOnPath>)> {
         let node = &self.nodes[n];
-        let rest = rest_pose(bodies, co);
-        let swept = match ball {
-            // A ball's box is its centre ± its radius, as parry's.
+        let moved = node.v * (dt - from);
+        let far_enough = |half: Real| moved.length() > half.min(self.sweep_reach);
+        let (swept, ball) = match known {
             Some(ball) => {
-                let r = Vector::splat(ball.radius);
-                let start = node.moved(rest, from).translation;
-                let end = node.moved(rest, dt).translation;
-                Aabb::new(start.min(end) - r, start.max(end) + r)
+                if !far_enough(ball.0) {
+                    return None;
+                }
+                (node.swept_ball(ball, from, dt), known)
             }
             None => {
-                let at = |t: Real| co.shape().compute_aabb(&node.moved(rest, t));
-                at(from).merged(&at(dt))
+                let co = colliders.get(ch)?;
+                let shape = co.shape();
+                let half = match shape.as_ball() {
+                    Some(ball) => ball.radius,
+                    None => {
+                        let aabb = co.compute_aabb();
+                        0.5 * (aabb.maxs - aabb.mins).min_element()
+                    }
+                };
+                if !far_enough(half) {
+                    return None;
+                }
+                let rest = rest_pose(bodies, co);
+                match shape.as_ball() {
+                    Some(ball) => {
+                        let ball = (ball.radius, rest.translation - node.x1);
+                        (node.swept_ball(ball, from, dt), Some(ball))
+                    }
+                    None => {
+                        let at = |t: Real| shape.compute_aabb(&node.moved(rest, t));
+                        (at(from).merged(&at(dt)), None)
+                    }
+                }
             }
-        }
-        .loosened(grow);
+        };
+        let swept = match self.phase {
+            Phase::Pre => swept.loosened(2.0 * moved.length()),
+            Phase::Post => swept,
+        };
         // A box that is not finite (a body the runtime guard cuts off)
         // meets nothing.
-        let ball = ball.map(|ball| (ball.radius, rest.translation - node.x1));
         (swept.mins.is_finite() && swept.maxs.is_finite()).then_some((swept, ball))
     }
 
@@ -1524,10 +1548,11 @@ impl Replay {
         broad_phase: &BroadPhaseBvh,
         ch: ColliderHandle,
         n: usize,
+        ball: Option<BallOnPath>,
         from: Real,
         dt: Real,
     ) {
-        let Some((aabb, _)) = self.swept_aabb(bodies, colliders, ch, n, from, dt) else {
+        let Some((aabb, _)) = self.swept_aabb(bodies, colliders, ch, n, from, dt, ball) else {
             return;
         };
         if let Some((c, covered)) = self.nodes[n].swept
@@ -1953,9 +1978,19 @@ impl Replay {
                 self.apart = apart;
                 self.apart.clear();
                 let bent = std::mem::take(&mut self.bent);
-                for &(n, collider) in &bent {
+                for &(n, collider, ball) in &bent {
                     self.nodes[n].sweep_due = None;
-                    self.sweep(k, bodies, colliders, broad_phase, collider, n, instant, dt);
+                    self.sweep(
+                        k,
+                        bodies,
+                        colliders,
+                        broad_phase,
+                        collider,
+                        n,
+                        ball,
+                        instant,
+                        dt,
+                    );
                 }
                 self.bent = bent;
                 self.bent.clear();
@@ -2054,10 +2089,11 @@ impl Replay {
                     // The new path may reach what neither the narrow phase
                     // nor the sweep along the old one saw: swept once this
                     // instant is over.
-                    let collider = if n == pair.a { pair.c1 } else { pair.c2 };
+                    let side = pair.side(n);
+                    let collider = [pair.c1, pair.c2][side];
                     if self.nodes[n].sweep_due != Some(collider) {
                         self.nodes[n].sweep_due = Some(collider);
-                        self.bent.push((n, collider));
+                        self.bent.push((n, collider, pair.balls.map(|b| b[side])));
                     }
                 }
             }
