@@ -1271,10 +1271,10 @@ impl Replay {
         self.pairs[i].point = point;
         let (na, nb) = (&self.nodes[pair.a], &self.nodes[pair.b]);
         if !self.takes(na, nb, normal, t, dt) {
-            // The law would not act there: not queued at all (half of
-            // the meetings a settling pile predicts at one instant are
-            // overlapping pairs that rapier's paths bring together but
-            // that approach slower than the rest speed).
+            // The law would not act there: not queued at all (two thirds
+            // of the meetings a landing pile predicts are overlapping
+            // pairs that rapier's paths bring together but that approach
+            // slower than the rest speed).
             self.queue.set(i, None);
             return;
         }
@@ -1965,8 +1965,10 @@ impl Replay {
             // pair through the overlapping cluster, each body hit several
             // times: its path is swept only once the instant is over, along
             // the last velocity it got then (the paths of the impacts in
-            // between last no time). The sweep may bring in pairs meeting
-            // at that instant still: the loop takes them before any later.
+            // between last no time), and its pairs with balls apart at
+            // that instant are predicted then (`defer_if_apart`). The
+            // sweep and those predictions may bring in pairs meeting at
+            // that instant still: the loop takes them before any later.
             if !(self.bent.is_empty() && self.apart.is_empty())
                 && self.queue.peek().is_none_or(|t| t.max(0.0) > instant)
             {
