@@ -1502,7 +1502,8 @@ impl Replay {
             None => {
                 let co = colliders.get(ch)?;
                 let shape = co.shape();
-                let half = match shape.as_ball() {
+                let ball = shape.as_ball();
+                let half = match ball {
                     Some(ball) => ball.radius,
                     None => {
                         let aabb = co.compute_aabb();
@@ -1513,7 +1514,7 @@ impl Replay {
                     return None;
                 }
                 let rest = rest_pose(bodies, co);
-                match shape.as_ball() {
+                match ball {
                     Some(ball) => {
                         let ball = (ball.radius, rest.translation - node.x1);
                         (node.swept_ball(ball, from, dt), Some(ball))
