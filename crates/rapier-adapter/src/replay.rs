@@ -1283,7 +1283,7 @@ impl Replay {
         // on the order in which the pairs were found (rapier's collider
         // indices), and the cluster settles in fewer impacts (19,600
         // instead of 21,500 per step in the 10,000-ball 2D pit).
-        let rank = (self.nodes[pair.b].u - self.nodes[pair.a].u).dot(normal);
+        let rank = (nb.u - na.u).dot(normal);
         self.queue.set(i, Some((t, rank)));
     }
 
