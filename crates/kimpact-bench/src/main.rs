@@ -316,6 +316,12 @@ struct Cli {
     /// classified; each distinct stack symbolized once).
     #[arg(long)]
     no_attribute: bool,
+    /// Switch off kimpact's calm-neighbourhood test
+    /// (`Config::calm_neighbourhoods`): every body faster than half the rest
+    /// speed carries the contact hook, as before the test existed. To
+    /// measure what the test buys.
+    #[arg(long)]
+    no_calm: bool,
     /// Internal (with --solo): run the attribution pass.
     #[arg(long, hide = true)]
     attribute: bool,
@@ -426,7 +432,19 @@ fn child_args(
         args.push(flag.to_owned());
         args.push(value.to_string());
     }
+    if cli.no_calm {
+        args.push("--no-calm".to_owned());
+    }
     args
+}
+
+/// `--no-calm` of this process (read by the scenes when they build their
+/// resolver).
+static NO_CALM: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Whether `--no-calm` was given.
+pub fn no_calm() -> bool {
+    NO_CALM.load(std::sync::atomic::Ordering::Relaxed)
 }
 
 /// In a child: run what `--pair` or `--solo` asks and print it as JSON.
@@ -491,6 +509,7 @@ fn machine() -> String {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    NO_CALM.store(cli.no_calm, std::sync::atomic::Ordering::Relaxed);
     if cli.pair || cli.solo {
         return child_main(&cli);
     }

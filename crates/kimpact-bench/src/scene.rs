@@ -91,7 +91,14 @@ impl Bench {
         .expect("valid law parameters");
         Self {
             world,
-            kimpact: Kimpact::new(law, mode),
+            kimpact: Kimpact::with_config(
+                law,
+                mode,
+                k::Config {
+                    calm_neighbourhoods: !crate::no_calm(),
+                    ..Default::default()
+                },
+            ),
             balls: Vec::new(),
             half: Vector::ZERO,
         }

@@ -62,4 +62,9 @@ pub struct Stats {
     pub event_cap_hits: u64,
     /// Steps taken through kimpact.
     pub steps: u64,
+    /// Fast bodies left without the contact hook because every partner
+    /// they could touch moved with them (`Config::calm_neighbourhoods`),
+    /// summed over the steps.
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    pub calm_bodies: u64,
 }

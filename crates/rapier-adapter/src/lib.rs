@@ -40,6 +40,7 @@ pub extern crate rapier_f64 as rapier;
 
 pub use kimpact::{FixedPartner, Law, LawError, LawParams};
 
+mod calm;
 mod cast;
 mod events;
 pub mod math;

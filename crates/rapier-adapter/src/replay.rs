@@ -463,7 +463,7 @@ struct Sweeper {
 /// low corner less than one cell (by a fifth of a cell, far more than any
 /// rounding of the cell coordinates) below the query's. Kept between steps:
 /// no allocation in a steady state.
-struct SweepGrid {
+pub(crate) struct SweepGrid {
     origin: Vector,
     inv_cell: Real,
     dims: [usize; 3],
@@ -503,7 +503,7 @@ impl SweepGrid {
     /// if that would make more than `CELLS_PER_BOX` cells per box.
     /// `false` (nothing built) if the boxes span more than the scalar type
     /// can hold.
-    fn build(&mut self, boxes: impl Iterator<Item = Aabb> + Clone) -> bool {
+    pub(crate) fn build(&mut self, boxes: impl Iterator<Item = Aabb> + Clone) -> bool {
         let mut lo = Vector::splat(Real::MAX);
         let mut hi = Vector::splat(Real::MIN);
         let mut largest: Real = 0.0;
@@ -615,7 +615,7 @@ impl SweepGrid {
     /// or neighbours. Each cell is joined with itself and with the
     /// neighbours after it in memory order (along x, then the three cells
     /// of each later row it touches), so each pair of cells once.
-    fn self_join(&self, mut f: impl FnMut(u32, u32)) {
+    pub(crate) fn self_join(&self, mut f: impl FnMut(u32, u32)) {
         let [nx, ny, nz] = self.dims;
         let mut test = |a: &GridItem, b: &GridItem| {
             if a.aabb.intersects(&b.aabb) {
@@ -674,7 +674,7 @@ impl SweepGrid {
 
     /// Call `f` once with the index of every box that meets `aabb`, in
     /// no particular order.
-    fn overlaps(&self, aabb: &Aabb, mut f: impl FnMut(u32)) {
+    pub(crate) fn overlaps(&self, aabb: &Aabb, mut f: impl FnMut(u32)) {
         let Some(r) = self.range(aabb) else { return };
         for z in r[2][0]..=r[2][1] {
             for y in r[1][0]..=r[1][1] {
@@ -854,7 +854,7 @@ fn interacts(bodies: &RigidBodySet, co1: &Collider, co2: &Collider, dynamic: boo
 /// and nothing read for a leaf `f` skips but its index) until every leaf
 /// is seen; keys beyond twice the leaf count (a set that had many colliders
 /// removed) are found by a walk down the tree.
-fn for_each_leaf(tree: &Bvh, mut f: impl FnMut(u32, &BvhNode)) {
+pub(crate) fn for_each_leaf(tree: &Bvh, mut f: impl FnMut(u32, &BvhNode)) {
     let leaves = tree.leaf_count();
     let limit = leaves.saturating_mul(2).saturating_add(64);
     let mut seen = 0;

@@ -4,6 +4,7 @@ use std::sync::Mutex;
 
 use kimpact::{Body, Law, LawError, LawParams, Mass};
 
+use crate::calm::{Calm, Frame};
 use crate::events::{ImpactEvent, Stats};
 use crate::math::{Real, Vector, from_law, to_law};
 use crate::mode::Mode;
@@ -18,7 +19,10 @@ use crate::replay::Replay;
 )]
 pub struct Config {
     /// Normal approach speeds at or below this are resting contacts: rapier
-    /// keeps them, with zero restitution (no bounce). `None` (the default)
+    /// keeps them, with zero restitution (no bounce) in a pair kimpact's hook
+    /// sees, and with the colliders' own restitution in a pair of two bodies
+    /// it leaves unhooked (two bodies that cannot close on each other faster
+    /// than this, as rapier itself would treat them). `None` (the default)
     /// means `2 |g| dt`, the speed gravity gives in two steps, so that piles
     /// rest under rapier's solver and only real impacts reach the law.
     pub rest_speed: Option<Real>,
@@ -29,6 +33,13 @@ pub struct Config {
     /// `Exact` mode: the most impacts resolved in one step before the rest of
     /// the step is left to rapier (a guard against inelastic collapse).
     pub max_events_per_step: usize,
+    /// Leave unhooked a fast body whose every possible partner this step
+    /// moves with it (velocities at most the rest speed apart): a pile that
+    /// creeps or falls as a whole keeps rapier's contact recycling. Tried
+    /// when at least 256 bodies are fast, and tried less often where it
+    /// finds few such bodies. Default `true`; `false` flags every body
+    /// faster than half the rest speed.
+    pub calm_neighbourhoods: bool,
 }
 
 impl Default for Config {
@@ -37,6 +48,7 @@ impl Default for Config {
             rest_speed: None,
             fixed_partners: true,
             max_events_per_step: 100_000,
+            calm_neighbourhoods: true,
         }
     }
 }
@@ -124,6 +136,20 @@ pub(crate) fn checked(b: &LawBody) -> Result<Body<Real, { crate::math::DIM }>, L
         Mass::Finite(m) => Body::new(m, to_law(b.velocity)),
         Mass::Infinite => Body::immovable(to_law(b.velocity)),
     }
+}
+
+/// Record where body `handle` starts the step (exact mode).
+#[inline]
+fn store_start(start: &mut Vec<Start>, handle: RigidBodyHandle, translation: Vector) {
+    let (index, generation) = handle.into_raw_parts();
+    let index = index as usize;
+    if start.len() <= index {
+        start.resize(index + 1, Start::default());
+    }
+    start[index] = Start {
+        tag: generation.wrapping_add(1),
+        translation,
+    };
 }
 
 fn is_marked(marked: &[u32], handle: ColliderHandle) -> bool {
@@ -401,6 +427,8 @@ pub struct Kimpact {
     stats: Stats,
     #[cfg_attr(feature = "serde-serialize", serde(skip))]
     replay: Replay,
+    /// Calm neighbourhoods (`Config::calm_neighbourhoods`).
+    calm: Calm,
 }
 
 impl Kimpact {
@@ -430,6 +458,7 @@ impl Kimpact {
             events: Vec::new(),
             stats: Stats::default(),
             replay: Replay::default(),
+            calm: Calm::default(),
         }
     }
 
@@ -551,7 +580,16 @@ impl Kimpact {
         let dt = integration_parameters.dt;
         let g = gravity.length();
         let rest_speed = self.config.rest_speed.unwrap_or(2.0 * g * dt);
-        self.prepare(islands, bodies, colliders, rest_speed);
+        self.prepare(
+            islands,
+            bodies,
+            colliders,
+            broad_phase,
+            gravity,
+            dt,
+            integration_parameters.prediction_distance(),
+            rest_speed,
+        );
         if matches!(self.mode, Mode::Impulse | Mode::Restitution) {
             // Impulse: the law on every impact seen coming. Restitution: only
             // on those of fast bodies, which rapier could let pass.
@@ -646,11 +684,16 @@ impl Kimpact {
     /// resting bodies costs nothing. (A sleeping body the user wakes between
     /// steps joins one step later, when rapier has made it active.) Flags that stay are not touched (rapier treats a collider
     /// borrowed mutably as modified).
+    #[allow(clippy::too_many_arguments)]
     fn prepare(
         &mut self,
         islands: &IslandManager,
         bodies: &RigidBodySet,
         colliders: &mut ColliderSet,
+        broad_phase: &BroadPhaseBvh,
+        gravity: Vector,
+        dt: Real,
+        prediction: Real,
         rest_speed: Real,
     ) {
         self.epoch = self.epoch.wrapping_add(1).max(1);
@@ -658,26 +701,44 @@ impl Kimpact {
         self.flagged.clear();
         if self.mode != Mode::Native {
             let threshold = 0.5 * rest_speed;
-            // Every awake body, at every step: a tight pass reads only the
-            // velocity of a slow body (a body's data spans several cache
-            // lines, and this read is a cache miss per body in a large
-            // scene; a loop without calls lets the processor overlap them)
-            // and, in exact mode, its start (it may join a chain: stored
-            // whether or not it has a marked collider; a kinematic body's
-            // start is never read). A fast body gets the rest at once,
-            // while its lines are in the cache (a second pass over the fast
-            // bodies missed them again in a gas, where all are fast).
             let exact = self.mode == Mode::Exact;
-            for handle in islands.active_bodies() {
-                let Some(rb) = bodies.get(handle) else {
-                    continue;
-                };
-                if rb.linvel().length_squared() > threshold * threshold {
-                    self.prepare_rb(handle, rb, colliders, threshold);
-                } else if exact {
-                    self.store_start(handle, rb.translation());
+            let fast = if self.config.calm_neighbourhoods && self.calm.wanted() {
+                self.prepare_calm(
+                    islands,
+                    bodies,
+                    colliders,
+                    broad_phase,
+                    gravity,
+                    dt,
+                    prediction,
+                    rest_speed,
+                )
+            } else {
+                // Every awake body, at every step: a tight pass reads only
+                // the velocity of a slow body (a body's data spans several
+                // cache lines, and this read is a cache miss per body in a
+                // large scene; a loop without calls lets the processor
+                // overlap them) and, in exact mode, its start (it may join a
+                // chain: stored whether or not it has a marked collider; a
+                // kinematic body's start is never read). A fast body gets
+                // the rest at once, while its lines are in the cache (a
+                // second pass over the fast bodies missed them again in a
+                // gas, where all are fast).
+                let mut fast = 0;
+                for handle in islands.active_bodies() {
+                    let Some(rb) = bodies.get(handle) else {
+                        continue;
+                    };
+                    if rb.linvel().length_squared() > threshold * threshold {
+                        fast += usize::from(rb.is_dynamic());
+                        self.prepare_rb(handle, rb, colliders, threshold);
+                    } else if exact {
+                        store_start(&mut self.start, handle, rb.translation());
+                    }
                 }
-            }
+                fast
+            };
+            self.calm.last_fast = u32::try_from(fast).unwrap_or(u32::MAX);
             let mut pending = std::mem::take(&mut self.pending);
             for &ch in &pending {
                 if let Some(handle) = colliders.get(ch).and_then(|co| co.parent()) {
@@ -745,22 +806,66 @@ impl Kimpact {
             rb.colliders().iter().any(|&ch| is_marked(&self.marked, ch))
         };
         if any_marked && self.mode == Mode::Exact {
-            self.store_start(handle, rb.translation());
+            store_start(&mut self.start, handle, rb.translation());
         }
     }
 
-    /// Record where body `handle` starts the step (exact mode).
-    #[inline]
-    fn store_start(&mut self, handle: RigidBodyHandle, translation: Vector) {
-        let (index, generation) = handle.into_raw_parts();
-        let index = index as usize;
-        if self.start.len() <= index {
-            self.start.resize(index + 1, Start::default());
-        }
-        self.start[index] = Start {
-            tag: generation.wrapping_add(1),
-            translation,
+    /// The pass of `prepare` with calm neighbourhoods (see the `calm`
+    /// module): every awake body is taken (its start stored in exact mode),
+    /// judged, and a fast body flagged unless calm. The number of fast
+    /// bodies.
+    #[allow(clippy::too_many_arguments)]
+    fn prepare_calm(
+        &mut self,
+        islands: &IslandManager,
+        bodies: &RigidBodySet,
+        colliders: &mut ColliderSet,
+        broad_phase: &BroadPhaseBvh,
+        gravity: Vector,
+        dt: Real,
+        prediction: Real,
+        rest_speed: Real,
+    ) -> usize {
+        let threshold = 0.5 * rest_speed;
+        let exact = self.mode == Mode::Exact;
+        let mut calm = std::mem::take(&mut self.calm);
+        calm.begin();
+        let judged = {
+            let frame = Frame {
+                bodies,
+                colliders,
+                broad_phase,
+                marked: &self.marked,
+                fixed_partners: self.config.fixed_partners,
+                gravity,
+                dt,
+                prediction,
+            };
+            for handle in islands.active_bodies() {
+                let Some(rb) = bodies.get(handle) else {
+                    continue;
+                };
+                let is_fast = rb.linvel().length_squared() > threshold * threshold;
+                if exact {
+                    store_start(&mut self.start, handle, rb.translation());
+                }
+                calm.take(&frame, handle, rb, is_fast);
+            }
+            calm.judge(&frame, rest_speed)
         };
+        let fast = judged.fast;
+        for t in calm.taken() {
+            if t.fast
+                && !t.calm
+                && let Some(rb) = bodies.get(t.handle)
+            {
+                self.flag(rb, colliders);
+            }
+        }
+        calm.settle(&judged);
+        self.stats.calm_bodies += judged.calm as u64;
+        self.calm = calm;
+        fast
     }
 
     /// Set the hook flag on the marked colliders of `rb` (leaving a flag the

@@ -1,0 +1,443 @@
+//! Calm neighbourhoods: which fast bodies can go without the contact hook
+//! this step.
+//!
+//! A pair needs kimpact's hook only if it can be an impact: a fresh contact
+//! closing faster than the rest speed. `prepare` flags a body faster than
+//! half the rest speed, so that two unflagged bodies never close faster than
+//! the rest speed. In a pile that creeps or falls as a whole, most bodies are
+//! that fast while every neighbour moves with them (the 10,000-ball 2D pit
+//! after its landing: 89% of the balls, of which one in nine has a
+//! neighbour more than the rest speed apart in velocity), and each hooked
+//! body costs rapier its contact recycling.
+//!
+//! This test keeps the guarantee with relative velocities. Every governed
+//! collider a fast body could touch this step is found from boxes: each
+//! collider's box at the start of the step, grown by rapier's contact reach
+//! (its skin and half the prediction distance) and by how far any of its
+//! points can move this step (on the straight path of the body's velocity
+//! and gravity, and the turn of its angular velocity), then swept over the
+//! step. Two colliders whose boxes do not meet can neither be in contact at
+//! the step's narrow phase nor come into contact during the step on the
+//! paths rapier integrates (the velocities at the start of the step, as the
+//! speed threshold assumes too). A fast
+//! body is left unflagged ("calm") when every governed collider whose box
+//! meets one of its own belongs to a body whose velocity differs from its by
+//! at most the rest speed: such a pair is not an impact whatever its
+//! contact, and a pair with a body that is not calm is hooked through that
+//! body. The partners are the awake bodies (in a grid, joined cell by cell)
+//! and every other governed collider in their region, found among the leaves
+//! of rapier's broad-phase tree: fixed and kinematic colliders (at their
+//! velocity), sleeping bodies (at rest), bodies woken since the last step.
+//!
+//! A body with a non-finite velocity or box is never calm, and makes its
+//! neighbours not calm either, so that the hook's runtime guard sees its
+//! pairs. Boxes much larger than the typical one (walls, a floor, a large
+//! body) are tested one by one against the grid, and a large body is never
+//! calm itself.
+//!
+//! The test is tried when at least `Calm::MIN_FAST` (256) bodies are fast, and
+//! backs off (waits 1, 2, 4, ... up to 16 steps) when a try leaves fewer
+//! than one in eight fast bodies calm or keeps fewer pairs in contact reach
+//! unhooked than a third of the members: what it saves is rapier's
+//! recycling of such pairs, and in a gas, where contacts are rare, it cost
+//! more than that (exact mode, 10,000 balls, 2D: 1.69x native with it,
+//! 1.48x without).
+//!
+//! Limit: a collider the user moved (teleported) since the last step, if
+//! its body is fixed or asleep, is found where rapier's broad phase last saw
+//! it (its tree leaf is updated inside the step).
+
+use std::cmp::Ordering;
+
+use crate::math::{Real, Vector};
+use crate::rapier::parry::bounding_volume::{Aabb, BoundingVolume};
+use crate::rapier::parry::query::DefaultQueryDispatcher;
+use crate::rapier::prelude::*;
+use crate::replay::{SweepGrid, for_each_leaf};
+
+/// What the test reads of the world for one step.
+pub(crate) struct Frame<'a> {
+    pub bodies: &'a RigidBodySet,
+    pub colliders: &'a ColliderSet,
+    pub broad_phase: &'a BroadPhaseBvh,
+    pub marked: &'a [u32],
+    pub fixed_partners: bool,
+    pub gravity: Vector,
+    pub dt: Real,
+    pub prediction: Real,
+}
+
+/// What a try found.
+#[derive(Copy, Clone, Debug, Default)]
+pub(crate) struct Judged {
+    /// Fast dynamic bodies.
+    pub fast: usize,
+    /// Of which calm.
+    pub calm: usize,
+    /// Members (governed colliders of awake bodies).
+    pub members: usize,
+    /// Pairs of members of different bodies within contact reach at the
+    /// start of the step (their contact boxes meet) and at most the rest
+    /// speed apart: what rapier can recycle when neither is hooked.
+    pub kept: usize,
+}
+
+/// One governed collider of an awake body.
+#[derive(Copy, Clone, Debug)]
+struct Member {
+    /// Everywhere it can reach this step.
+    aabb: Aabb,
+    /// Its contact box at the start of the step.
+    contact: Aabb,
+    velocity: Vector,
+    /// Its body's place in `Calm::taken`.
+    body: u32,
+    big: bool,
+}
+
+/// An awake body the test looked at.
+#[derive(Copy, Clone, Debug)]
+pub(crate) struct Taken {
+    pub handle: RigidBodyHandle,
+    /// Its members: `Calm::members[first..end]`.
+    first: u32,
+    end: u32,
+    /// Faster than half the rest speed, and dynamic: flagged unless calm.
+    pub fast: bool,
+    /// Whether its members can be calm (none large, none non-finite).
+    eligible: bool,
+    /// Judged calm: fast, eligible, and no member closing on a partner
+    /// faster than the rest speed.
+    pub calm: bool,
+}
+
+/// The state and scratch space of the test; nothing is allocated in a
+/// steady state.
+#[derive(Default)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
+pub(crate) struct Calm {
+    /// Steps to wait before the next try (the test backs off where it does
+    /// not pay: few calm bodies, or few pairs in contact reach among them,
+    /// as in a gas).
+    wait: u32,
+    /// The last wait, doubled at each try that pays too little.
+    backoff: u32,
+    /// Fast bodies at the last `prepare`.
+    pub last_fast: u32,
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    scratch: Scratch,
+}
+
+#[derive(Default)]
+struct Scratch {
+    /// Per collider index: the epoch at which it was a member or belonged
+    /// to an awake body.
+    stamp: Vec<u32>,
+    epoch: u32,
+    members: Vec<Member>,
+    taken: Vec<Taken>,
+    /// Per member: not found closing on a partner faster than the rest
+    /// speed.
+    calm: Vec<bool>,
+    /// The grid's boxes: member index of each.
+    in_grid: Vec<u32>,
+    /// Boxes tested one by one: large members and the colliders that are
+    /// not members (with their velocity, and their member index or
+    /// `u32::MAX`).
+    one_by_one: Vec<(Aabb, Vector, u32)>,
+    grid: SweepGrid,
+    region: Option<Aabb>,
+}
+
+impl Calm {
+    /// Fewest fast bodies for which the test is tried.
+    pub const MIN_FAST: u32 = 256;
+    /// A try that leaves fewer than one in `PAYS` fast bodies calm backs
+    /// off.
+    const PAYS: usize = 8;
+    /// A try pays only if it keeps at least one pair in contact reach per
+    /// `KEPT` members unhooked (see the module docs).
+    const KEPT: usize = 3;
+    /// The longest back-off, in steps.
+    const MAX_WAIT: u32 = 16;
+    /// A box is tested one by one when its largest side exceeds this many
+    /// times the members' mean.
+    const BIG: Real = 4.0;
+
+    /// Whether to try the test at this step (counts the wait down).
+    pub fn wanted(&mut self) -> bool {
+        if self.last_fast < Self::MIN_FAST {
+            return false;
+        }
+        if self.wait > 0 {
+            self.wait -= 1;
+            return false;
+        }
+        true
+    }
+
+    /// Start a try.
+    pub fn begin(&mut self) {
+        let s = &mut self.scratch;
+        s.epoch = s.epoch.wrapping_add(1).max(1);
+        s.members.clear();
+        s.taken.clear();
+        s.one_by_one.clear();
+        s.region = None;
+    }
+
+    /// Take awake body `handle`: its governed colliders become members (a
+    /// dynamic body's marked colliders; a kinematic body's marked ones, or
+    /// all with `fixed_partners`). `fast`: it is flagged unless calm.
+    pub fn take(&mut self, f: &Frame, handle: RigidBodyHandle, rb: &RigidBody, fast: bool) {
+        let s = &mut self.scratch;
+        let dynamic = rb.is_dynamic();
+        let first = s.members.len() as u32;
+        let mut eligible = true;
+        let velocity = rb.linvel();
+        let path = if dynamic {
+            velocity + f.gravity * (rb.gravity_scale() * f.dt)
+        } else {
+            velocity
+        };
+        let turn = angular_speed(rb) * f.dt;
+        let com = rb.center_of_mass();
+        let body = s.taken.len() as u32;
+        for &ch in rb.colliders() {
+            let index = ch.into_raw_parts().0 as usize;
+            if s.stamp.len() <= index {
+                s.stamp.resize(index + 1, 0);
+            }
+            s.stamp[index] = s.epoch;
+            if !(is_marked(f.marked, ch) || (!dynamic && f.fixed_partners)) {
+                continue;
+            }
+            let Some(co) = f.colliders.get(ch) else {
+                continue;
+            };
+            let contact = contact_box(co, f);
+            let (aabb, velocity) = match reach(contact, com, path, turn, f) {
+                Some(aabb) => (aabb, velocity),
+                None => {
+                    // Non-finite: never calm, and its neighbours neither
+                    // (a NaN velocity fails every comparison).
+                    eligible = false;
+                    match finite(contact) {
+                        Some(aabb) => (aabb, Vector::splat(Real::NAN)),
+                        None => continue,
+                    }
+                }
+            };
+            s.region = Some(match s.region {
+                Some(r) => r.merged(&aabb),
+                None => aabb,
+            });
+            s.members.push(Member {
+                aabb,
+                contact,
+                velocity,
+                body,
+                big: false,
+            });
+        }
+        s.taken.push(Taken {
+            handle,
+            first,
+            end: s.members.len() as u32,
+            fast: fast && dynamic,
+            eligible,
+            calm: false,
+        });
+    }
+
+    /// Judge the bodies taken against each other and against every other
+    /// governed collider in their region.
+    pub fn judge(&mut self, f: &Frame, rest_speed: Real) -> Judged {
+        let s = &mut self.scratch;
+        let rest2 = rest_speed * rest_speed;
+        // Apart unless at most the rest speed apart: a NaN is apart.
+        let apart = |a: Vector, b: Vector| {
+            !matches!(
+                (a - b).length_squared().partial_cmp(&rest2),
+                Some(Ordering::Less | Ordering::Equal)
+            )
+        };
+        s.calm.clear();
+        s.calm.resize(s.members.len(), true);
+        // Large boxes out of the grid.
+        let mut sum: f64 = 0.0;
+        for m in &s.members {
+            sum += f64::from((m.aabb.maxs - m.aabb.mins).max_element());
+        }
+        let mean = sum / s.members.len().max(1) as f64;
+        // f64 → Real: a conversion in the f32 build only.
+        #[allow(clippy::unnecessary_cast)]
+        let cut = Self::BIG * mean as Real;
+        s.in_grid.clear();
+        for (i, m) in s.members.iter_mut().enumerate() {
+            if (m.aabb.maxs - m.aabb.mins).max_element() > cut {
+                m.big = true;
+                s.taken[m.body as usize].eligible = false;
+                s.one_by_one.push((m.aabb, m.velocity, i as u32));
+            } else {
+                s.in_grid.push(i as u32);
+            }
+        }
+        // The other governed colliders in the region.
+        if let Some(region) = s.region {
+            let dispatcher = DefaultQueryDispatcher;
+            let tree = f
+                .broad_phase
+                .as_query_pipeline(&dispatcher, f.bodies, f.colliders, QueryFilter::default())
+                .bvh;
+            let (stamp, epoch) = (&s.stamp, s.epoch);
+            let one_by_one = &mut s.one_by_one;
+            for_each_leaf(tree, |index, node| {
+                if stamp.get(index as usize) == Some(&epoch) || !region.intersects(&node.aabb()) {
+                    return;
+                }
+                if let Some(other) = partner(f, index) {
+                    one_by_one.push(other);
+                }
+            });
+        }
+        let members = &s.members;
+        let in_grid = &s.in_grid;
+        let calm = &mut s.calm;
+        if !s
+            .grid
+            .build(in_grid.iter().map(|&i| members[i as usize].aabb))
+        {
+            // Not griddable (extents the scalar cannot hold): none calm.
+            return Judged {
+                fast: s.taken.iter().filter(|t| t.fast).count(),
+                ..Judged::default()
+            };
+        }
+        let mut kept = 0;
+        s.grid.self_join(|a, b| {
+            let (i, j) = (in_grid[a as usize] as usize, in_grid[b as usize] as usize);
+            let (p, q) = (&members[i], &members[j]);
+            if p.body == q.body {
+                return;
+            }
+            if apart(p.velocity, q.velocity) {
+                calm[i] = false;
+                calm[j] = false;
+            } else if p.contact.intersects(&q.contact) {
+                kept += 1;
+            }
+        });
+        for &(aabb, velocity, own) in &s.one_by_one {
+            let body = members.get(own as usize).map(|m| m.body);
+            s.grid.overlaps(&aabb, |g| {
+                let i = in_grid[g as usize] as usize;
+                if Some(members[i].body) != body && apart(members[i].velocity, velocity) {
+                    calm[i] = false;
+                }
+            });
+        }
+        let mut count = 0;
+        for t in &mut s.taken {
+            t.calm = t.eligible
+                && t.fast
+                && (t.first..t.end).all(|i| calm[i as usize] && !members[i as usize].big);
+            count += usize::from(t.calm);
+        }
+        Judged {
+            fast: s.taken.iter().filter(|t| t.fast).count(),
+            calm: count,
+            members: members.len(),
+            kept,
+        }
+    }
+
+    /// The bodies taken at this try, judged.
+    pub fn taken(&self) -> &[Taken] {
+        &self.scratch.taken
+    }
+
+    /// Record the outcome of a try. It pays when at least one in `PAYS`
+    /// fast bodies is calm and the pairs it keeps are a third of the
+    /// members or more.
+    pub fn settle(&mut self, judged: &Judged) {
+        if judged.calm * Self::PAYS < judged.fast || judged.kept * Self::KEPT < judged.members {
+            self.backoff = (self.backoff * 2).clamp(1, Self::MAX_WAIT);
+            self.wait = self.backoff;
+        } else {
+            self.backoff = 0;
+            self.wait = 0;
+        }
+    }
+}
+
+fn is_marked(marked: &[u32], handle: ColliderHandle) -> bool {
+    let (index, generation) = handle.into_raw_parts();
+    marked.get(index as usize) == Some(&(generation.wrapping_add(1)))
+}
+
+#[cfg(feature = "dim2")]
+fn angular_speed(rb: &RigidBody) -> Real {
+    rb.angvel().abs()
+}
+
+#[cfg(feature = "dim3")]
+fn angular_speed(rb: &RigidBody) -> Real {
+    rb.angvel().length()
+}
+
+/// Collider `co`'s box at the start of the step, grown by rapier's contact
+/// reach (skin and half the prediction distance): two colliders can have a
+/// contact at the narrow phase only if these boxes meet.
+fn contact_box(co: &Collider, f: &Frame) -> Aabb {
+    co.compute_aabb()
+        .loosened(co.contact_skin() + 0.5 * f.prediction)
+}
+
+/// `b` if finite.
+fn finite(b: Aabb) -> Option<Aabb> {
+    (b.mins.is_finite() && b.maxs.is_finite()).then_some(b)
+}
+
+/// Everywhere a collider with contact box `b` can reach this step: the box
+/// grown by how far its farthest point turns (`turn` radians about `com`),
+/// and swept along `path * dt`. `None` if not finite.
+fn reach(b: Aabb, com: Vector, path: Vector, turn: Real, f: &Frame) -> Option<Aabb> {
+    let arm = (b.center() - com).length() + 0.5 * (b.maxs - b.mins).length();
+    let b = b.loosened(turn.min(2.0) * arm);
+    let shift = path * f.dt;
+    let moved = Aabb::new(b.mins + shift, b.maxs + shift);
+    let swept = b.merged(&moved);
+    finite(swept)
+}
+
+/// The collider at index `index` as a partner of the members, if the law
+/// governs its pairs with them: a marked collider of a body not taken
+/// (asleep, or woken since the last step), or, with `fixed_partners`, a
+/// collider of a fixed or kinematic body or of none.
+fn partner(f: &Frame, index: u32) -> Option<(Aabb, Vector, u32)> {
+    let (co, ch) = f.colliders.get_unknown_gen(index)?;
+    let rb = co.parent().and_then(|h| f.bodies.get(h));
+    let governed =
+        is_marked(f.marked, ch) || (f.fixed_partners && rb.is_none_or(|rb| !rb.is_dynamic()));
+    if !governed {
+        return None;
+    }
+    let contact = contact_box(co, f);
+    let Some(rb) = rb else {
+        return finite(contact).map(|b| (b, Vector::ZERO, u32::MAX));
+    };
+    let path = if rb.is_dynamic() {
+        rb.linvel() + f.gravity * (rb.gravity_scale() * f.dt)
+    } else {
+        rb.linvel()
+    };
+    let turn = angular_speed(rb) * f.dt;
+    match reach(contact, rb.center_of_mass(), path, turn, f) {
+        Some(b) => Some((b, rb.linvel(), u32::MAX)),
+        None => finite(contact).map(|b| (b, Vector::splat(Real::NAN), u32::MAX)),
+    }
+}
