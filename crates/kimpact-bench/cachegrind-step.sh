@@ -27,7 +27,7 @@ cost() { # steps -> "Ir L1 L2"
     valgrind --tool=cachegrind --cache-sim=yes --LL=4194304,16,64 \
         --cachegrind-out-file="$dir/out" "$bin" --solo --scene "$scene" \
         --balls "$balls" --mode "$mode" --precision "$precision" \
-        --steps "$1" --warmup "$warmup" >/dev/null 2>&1
+        --steps "$1" --warmup "$warmup" ${EXTRA:-} >/dev/null 2>&1
     awk '/^events:/ { for (i = 2; i <= NF; i++) e[i] = $i }
          /^summary:/ { for (i = 2; i <= NF; i++) v[e[i]] = $i
              print v["Ir"], v["I1mr"] + v["D1mr"] + v["D1mw"], v["ILmr"] + v["DLmr"] + v["DLmw"] }' "$dir/out"

@@ -138,6 +138,19 @@ pub(crate) fn checked(b: &LawBody) -> Result<Body<Real, { crate::math::DIM }>, L
     }
 }
 
+/// What `Kimpact::prepare` reads of the step.
+#[derive(Copy, Clone)]
+struct PrepareInput<'a> {
+    islands: &'a IslandManager,
+    bodies: &'a RigidBodySet,
+    broad_phase: &'a BroadPhaseBvh,
+    gravity: Vector,
+    dt: Real,
+    /// rapier's prediction distance.
+    prediction: Real,
+    rest_speed: Real,
+}
+
 /// Record where body `handle` starts the step (exact mode).
 #[inline]
 fn store_start(start: &mut Vec<Start>, handle: RigidBodyHandle, translation: Vector) {
@@ -580,16 +593,16 @@ impl Kimpact {
         let dt = integration_parameters.dt;
         let g = gravity.length();
         let rest_speed = self.config.rest_speed.unwrap_or(2.0 * g * dt);
-        self.prepare(
+        let input = PrepareInput {
             islands,
             bodies,
-            colliders,
             broad_phase,
             gravity,
             dt,
-            integration_parameters.prediction_distance(),
+            prediction: integration_parameters.prediction_distance(),
             rest_speed,
-        );
+        };
+        self.prepare(&input, colliders);
         if matches!(self.mode, Mode::Impulse | Mode::Restitution) {
             // Impulse: the law on every impact seen coming. Restitution: only
             // on those of fast bodies, which rapier could let pass.
@@ -682,20 +695,16 @@ impl Kimpact {
     /// last step and the bodies kimpact woke (rapier adds those to its active
     /// set only inside the next step), never the whole set: a scene of
     /// resting bodies costs nothing. (A sleeping body the user wakes between
-    /// steps joins one step later, when rapier has made it active.) Flags that stay are not touched (rapier treats a collider
-    /// borrowed mutably as modified).
-    #[allow(clippy::too_many_arguments)]
-    fn prepare(
-        &mut self,
-        islands: &IslandManager,
-        bodies: &RigidBodySet,
-        colliders: &mut ColliderSet,
-        broad_phase: &BroadPhaseBvh,
-        gravity: Vector,
-        dt: Real,
-        prediction: Real,
-        rest_speed: Real,
-    ) {
+    /// steps joins one step later, when rapier has made it active.) Flags
+    /// that stay are not touched (rapier treats a collider borrowed mutably
+    /// as modified).
+    fn prepare(&mut self, input: &PrepareInput, colliders: &mut ColliderSet) {
+        let PrepareInput {
+            islands,
+            bodies,
+            rest_speed,
+            ..
+        } = *input;
         self.epoch = self.epoch.wrapping_add(1).max(1);
         std::mem::swap(&mut self.previous, &mut self.flagged);
         self.flagged.clear();
@@ -703,16 +712,7 @@ impl Kimpact {
             let threshold = 0.5 * rest_speed;
             let exact = self.mode == Mode::Exact;
             let fast = if self.config.calm_neighbourhoods && self.calm.wanted() {
-                self.prepare_calm(
-                    islands,
-                    bodies,
-                    colliders,
-                    broad_phase,
-                    gravity,
-                    dt,
-                    prediction,
-                    rest_speed,
-                )
+                self.prepare_calm(input, colliders)
             } else {
                 // Every awake body, at every step: a tight pass reads only
                 // the velocity of a slow body (a body's data spans several
@@ -739,6 +739,7 @@ impl Kimpact {
                 fast
             };
             self.calm.last_fast = u32::try_from(fast).unwrap_or(u32::MAX);
+            self.calm.last_awake = u32::try_from(islands.num_active_bodies()).unwrap_or(u32::MAX);
             let mut pending = std::mem::take(&mut self.pending);
             for &ch in &pending {
                 if let Some(handle) = colliders.get(ch).and_then(|co| co.parent()) {
@@ -814,18 +815,16 @@ impl Kimpact {
     /// module): every awake body is taken (its start stored in exact mode),
     /// judged, and a fast body flagged unless calm. The number of fast
     /// bodies.
-    #[allow(clippy::too_many_arguments)]
-    fn prepare_calm(
-        &mut self,
-        islands: &IslandManager,
-        bodies: &RigidBodySet,
-        colliders: &mut ColliderSet,
-        broad_phase: &BroadPhaseBvh,
-        gravity: Vector,
-        dt: Real,
-        prediction: Real,
-        rest_speed: Real,
-    ) -> usize {
+    fn prepare_calm(&mut self, input: &PrepareInput, colliders: &mut ColliderSet) -> usize {
+        let PrepareInput {
+            islands,
+            bodies,
+            broad_phase,
+            gravity,
+            dt,
+            prediction,
+            rest_speed,
+        } = *input;
         let threshold = 0.5 * rest_speed;
         let exact = self.mode == Mode::Exact;
         let mut calm = std::mem::take(&mut self.calm);
