@@ -682,15 +682,25 @@ enum CalmPartner {
     Sleeper,
 }
 
+/// An impact as compared between runs: its colliders, and its time and
+/// impulse as bits.
+type ImpactBits = (ColliderHandle, ColliderHandle, u64, u64);
+
+/// What a calm-neighbourhood run found at its first law impact.
+struct CalmOutcome {
+    /// The step it came at.
+    step: usize,
+    /// That step's impacts.
+    events: Vec<ImpactBits>,
+    /// Fast bodies left unhooked so far.
+    calm: u64,
+    /// Whether an impact of that step involves the partner.
+    hit: bool,
+}
+
 /// One calm-neighbourhood run: steps until the first law impact (at most
-/// 40), then the step it came at, that step's impacts (colliders, time and
-/// impulse as bits), the fast bodies left unhooked so far, and whether an
-/// impact of that step involves the partner.
-fn calm_run(
-    mode: Mode,
-    partner: CalmPartner,
-    calm: bool,
-) -> (usize, Vec<(ColliderHandle, ColliderHandle, u64, u64)>, u64, bool) {
+/// 40).
+fn calm_run(mode: Mode, partner: CalmPartner, calm: bool) -> CalmOutcome {
     let mut w = TestWorld::new(mode, 0.0, Vector::ZERO);
     let config = k::Config {
         rest_speed: Some(0.1),
@@ -760,7 +770,12 @@ fn calm_run(
                     )
                 })
                 .collect();
-            return (step, list, w.kimpact.stats().calm_bodies, hit);
+            return CalmOutcome {
+                step,
+                events: list,
+                calm: w.kimpact.stats().calm_bodies,
+                hit,
+            };
         }
     }
     panic!("{mode} {partner:?}: no impact in 40 steps");
@@ -779,14 +794,14 @@ fn calm_run(
 fn calm_blocks_go_unhooked_and_meet_their_partners_as_hooked_ones_do() {
     for mode in [Mode::Restitution, Mode::Impulse, Mode::Exact] {
         for partner in [CalmPartner::Block, CalmPartner::Wall, CalmPartner::Sleeper] {
-            let (step, events, calm, hit) = calm_run(mode, partner, true);
-            let (step_all, events_all, calm_all, _) = calm_run(mode, partner, false);
-            assert_eq!(calm_all, 0, "{mode} {partner:?}: the test ran while switched off");
-            assert!(calm > 0, "{mode} {partner:?}: no body was left unhooked");
-            assert!(hit, "{mode} {partner:?}: the first impacts do not involve the partner");
+            let on = calm_run(mode, partner, true);
+            let off = calm_run(mode, partner, false);
+            assert_eq!(off.calm, 0, "{mode} {partner:?}: the test ran while switched off");
+            assert!(on.calm > 0, "{mode} {partner:?}: no body was left unhooked");
+            assert!(on.hit, "{mode} {partner:?}: the first impacts do not involve the partner");
             assert_eq!(
-                (step, &events),
-                (step_all, &events_all),
+                (on.step, &on.events),
+                (off.step, &off.events),
                 "{mode} {partner:?}: unhooked calm bodies changed the first impacts"
             );
         }
