@@ -36,9 +36,10 @@ pub struct Config {
     /// Leave unhooked a fast body whose every possible partner this step
     /// moves with it (velocities at most the rest speed apart): a pile that
     /// creeps or falls as a whole keeps rapier's contact recycling. Tried
-    /// when at least 256 bodies are fast, and tried less often where it
-    /// finds few such bodies. Default `true`; `false` flags every body
-    /// faster than half the rest speed.
+    /// when at least 256 bodies, and one in eight awake bodies, are fast,
+    /// and less often where it does not pay (few such bodies, or few
+    /// contacts among them, as in a gas). Default `true`; `false` hooks
+    /// every body faster than half the rest speed.
     pub calm_neighbourhoods: bool,
 }
 
