@@ -56,6 +56,7 @@ use crate::rapier::parry::bounding_volume::{Aabb, BoundingVolume};
 use crate::rapier::parry::query::DefaultQueryDispatcher;
 use crate::rapier::prelude::*;
 use crate::replay::{SweepGrid, for_each_leaf};
+use crate::resolver::{is_marked, path_velocity};
 
 /// What the test reads of the world for one step.
 pub(crate) struct Frame<'a> {
@@ -212,11 +213,7 @@ impl Calm {
         let first = s.members.len() as u32;
         let mut eligible = true;
         let velocity = rb.linvel();
-        let path = if dynamic {
-            velocity + f.gravity * (rb.gravity_scale() * f.dt)
-        } else {
-            velocity
-        };
+        let path = path_velocity(rb, f.gravity * f.dt);
         let turn = angular_speed(rb) * f.dt;
         let com = rb.center_of_mass();
         let body = s.taken.len() as u32;
@@ -393,11 +390,6 @@ impl Calm {
     }
 }
 
-fn is_marked(marked: &[u32], handle: ColliderHandle) -> bool {
-    let (index, generation) = handle.into_raw_parts();
-    marked.get(index as usize) == Some(&(generation.wrapping_add(1)))
-}
-
 #[cfg(feature = "dim2")]
 fn angular_speed(rb: &RigidBody) -> Real {
     rb.angvel().abs()
@@ -449,11 +441,7 @@ fn partner(f: &Frame, index: u32) -> Option<(Aabb, Vector, u32)> {
     let Some(rb) = rb else {
         return finite(contact).map(|b| (b, Vector::ZERO, u32::MAX));
     };
-    let path = if rb.is_dynamic() {
-        rb.linvel() + f.gravity * (rb.gravity_scale() * f.dt)
-    } else {
-        rb.linvel()
-    };
+    let path = path_velocity(rb, f.gravity * f.dt);
     let turn = angular_speed(rb) * f.dt;
     match reach(contact, rb.center_of_mass(), path, turn, f) {
         Some(b) => Some((b, rb.linvel(), u32::MAX)),

@@ -31,7 +31,7 @@ use kimpact::Mass;
 use crate::math::{DIM, Pose, Real, Vector, from_law, to_law};
 use crate::rapier::parry::partitioning::{Bvh, BvhNode, TraversalAction};
 use crate::rapier::prelude::*;
-use crate::resolver::{Candidate, Kimpact, LawBody, checked, governs, law_body};
+use crate::resolver::{Candidate, Kimpact, LawBody, checked, governs, law_body, path_velocity};
 
 /// No pair: the end of a node's list of pairs.
 const NO_PAIR: u32 = u32::MAX;
@@ -1173,11 +1173,7 @@ impl Replay {
                     // A node's velocities are the ones the law changed.
                     let (v, u) = match self.body_node(co.parent()) {
                         Some(n) => (self.nodes[n].v, self.nodes[n].u),
-                        None if rb.is_dynamic() => (
-                            rb.linvel() + self.gravity_dt * rb.gravity_scale(),
-                            rb.linvel(),
-                        ),
-                        None => (rb.linvel(), rb.linvel()),
+                        None => (path_velocity(rb, self.gravity_dt), rb.linvel()),
                     };
                     let offset = co
                         .position_wrt_parent()

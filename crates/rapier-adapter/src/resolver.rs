@@ -166,7 +166,18 @@ fn store_start(start: &mut Vec<Start>, handle: RigidBodyHandle, translation: Vec
     };
 }
 
-fn is_marked(marked: &[u32], handle: ColliderHandle) -> bool {
+/// The velocity body `rb` moves along this step, on the straight path
+/// rapier integrates: its velocity plus gravity's `gravity_dt` (scaled by
+/// its gravity scale) for a dynamic body, its velocity for another.
+pub(crate) fn path_velocity(rb: &RigidBody, gravity_dt: Vector) -> Vector {
+    if rb.is_dynamic() {
+        rb.linvel() + gravity_dt * rb.gravity_scale()
+    } else {
+        rb.linvel()
+    }
+}
+
+pub(crate) fn is_marked(marked: &[u32], handle: ColliderHandle) -> bool {
     let (index, generation) = handle.into_raw_parts();
     marked.get(index as usize) == Some(&(generation.wrapping_add(1)))
 }
@@ -339,10 +350,9 @@ impl HookState<'_> {
         rb1: Option<RigidBodyHandle>,
         rb2: Option<RigidBodyHandle>,
     ) -> bool {
-        let path = |h: Option<RigidBodyHandle>| match h.and_then(|h| bodies.get(h)) {
-            Some(rb) if rb.is_dynamic() => rb.linvel() + self.gravity_dt * rb.gravity_scale(),
-            Some(rb) => rb.linvel(),
-            None => Vector::ZERO,
+        let path = |h: Option<RigidBodyHandle>| {
+            h.and_then(|h| bodies.get(h))
+                .map_or(Vector::ZERO, |rb| path_velocity(rb, self.gravity_dt))
         };
         let (Some(co1), Some(co2)) = (colliders.get(c1), colliders.get(c2)) else {
             return true;
