@@ -698,9 +698,9 @@ struct CalmOutcome {
     hit: bool,
 }
 
-/// One calm-neighbourhood run: steps until the first law impact (at most
-/// 40).
-fn calm_run(mode: Mode, partner: CalmPartner, calm: bool) -> CalmOutcome {
+/// An empty world without gravity for the calm-neighbourhood tests: an
+/// elastic law in `mode`, a rest speed of 0.1, the test on or off.
+fn calm_world(mode: Mode, calm: bool) -> TestWorld {
     let mut w = TestWorld::new(mode, 0.0, Vector::ZERO);
     let config = k::Config {
         rest_speed: Some(0.1),
@@ -709,6 +709,13 @@ fn calm_run(mode: Mode, partner: CalmPartner, calm: bool) -> CalmOutcome {
     };
     let law = Law::new(LawParams::default()).unwrap();
     w.kimpact = k::Kimpact::with_config(law, mode, config);
+    w
+}
+
+/// One calm-neighbourhood run: steps until the first law impact (at most
+/// 40).
+fn calm_run(mode: Mode, partner: CalmPartner, calm: bool) -> CalmOutcome {
+    let mut w = calm_world(mode, calm);
     // 256 balls in 2D, 343 in 3D: enough fast bodies for the test to run.
     let n: usize = if DIM == 2 { 16 } else { 7 };
     let (r, spacing, speed): (Real, Real, Real) = (0.5, 1.2, 3.0);
@@ -816,13 +823,7 @@ fn calm_blocks_go_unhooked_and_meet_their_partners_as_hooked_ones_do() {
 #[test]
 fn a_nan_ball_inside_a_calm_block_keeps_its_neighbours_hooked() {
     for mode in [Mode::Restitution, Mode::Impulse, Mode::Exact] {
-        let mut w = TestWorld::new(mode, 0.0, Vector::ZERO);
-        let config = k::Config {
-            rest_speed: Some(0.1),
-            ..Default::default()
-        };
-        let law = Law::new(LawParams::default()).unwrap();
-        w.kimpact = k::Kimpact::with_config(law, mode, config);
+        let mut w = calm_world(mode, true);
         let n: usize = if DIM == 2 { 16 } else { 7 };
         let (r, spacing) = (0.5 as Real, 1.005 as Real);
         let mut balls = Vec::new();

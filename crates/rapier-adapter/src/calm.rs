@@ -95,7 +95,6 @@ struct Member {
     velocity: Vector,
     /// Its body's place in `Calm::taken`.
     body: u32,
-    big: bool,
 }
 
 /// An awake body the test looked at.
@@ -145,6 +144,8 @@ struct Scratch {
     epoch: u32,
     members: Vec<Member>,
     taken: Vec<Taken>,
+    /// Fast dynamic bodies among `taken`.
+    fast: usize,
     /// Per member: not found closing on a partner faster than the rest
     /// speed.
     calm: Vec<bool>,
@@ -202,6 +203,7 @@ impl Calm {
         s.taken.clear();
         s.one_by_one.clear();
         s.region = None;
+        s.fast = 0;
     }
 
     /// Take awake body `handle`: its governed colliders become members (a
@@ -251,9 +253,9 @@ impl Calm {
                 contact,
                 velocity,
                 body,
-                big: false,
             });
         }
+        s.fast += usize::from(fast && dynamic);
         s.taken.push(Taken {
             handle,
             first,
@@ -288,9 +290,9 @@ impl Calm {
         #[allow(clippy::unnecessary_cast)]
         let cut = Self::BIG * mean as Real;
         s.in_grid.clear();
-        for (i, m) in s.members.iter_mut().enumerate() {
+        for (i, m) in s.members.iter().enumerate() {
             if (m.aabb.maxs - m.aabb.mins).max_element() > cut {
-                m.big = true;
+                // Never calm itself: its body is not eligible.
                 s.taken[m.body as usize].eligible = false;
                 s.one_by_one.push((m.aabb, m.velocity, i as u32));
             } else {
@@ -324,7 +326,7 @@ impl Calm {
         {
             // Not griddable (extents the scalar cannot hold): none calm.
             return Judged {
-                fast: s.taken.iter().filter(|t| t.fast).count(),
+                fast: s.fast,
                 ..Judged::default()
             };
         }
@@ -353,13 +355,11 @@ impl Calm {
         }
         let mut count = 0;
         for t in &mut s.taken {
-            t.calm = t.eligible
-                && t.fast
-                && (t.first..t.end).all(|i| calm[i as usize] && !members[i as usize].big);
+            t.calm = t.eligible && t.fast && (t.first..t.end).all(|i| calm[i as usize]);
             count += usize::from(t.calm);
         }
         Judged {
-            fast: s.taken.iter().filter(|t| t.fast).count(),
+            fast: s.fast,
             calm: count,
             members: members.len(),
             kept,
