@@ -1,0 +1,164 @@
+//! The resolver as a Bevy resource, and which collider entity it marked.
+
+use bevy::platform::collections::HashMap;
+use bevy::prelude::{Entity, Resource};
+
+use crate::kimpact_rapier::rapier::prelude::{ColliderHandle, ColliderSet};
+use crate::kimpact_rapier::{Kimpact, Law, LawParams, Mode, Stats};
+
+/// kimpact's resolver for the governed rapier context, with the collider
+/// entities it marked (a resource the plugin inserts).
+///
+/// Read it for the totals of the run ([`KimpactState::stats`]) and the mode
+/// and law in force; change them through
+/// [`KimpactSettings`](crate::KimpactSettings), and mark colliders with
+/// [`KimpactCollider`](crate::KimpactCollider).
+#[derive(Resource)]
+pub struct KimpactState {
+    pub(crate) kimpact: Kimpact,
+    pub(crate) marks: Marks,
+    /// The step the before system prepared, until the after system finishes it.
+    pub(crate) step: Option<PreparedStep>,
+    /// The settings in force (the last valid ones applied).
+    pub(crate) applied: Option<(Mode, LawParams<crate::kimpact_rapier::math::Real>)>,
+    pub(crate) warned: Warned,
+}
+
+/// One step between the before and the after system.
+#[derive(Copy, Clone, Debug)]
+pub(crate) struct PreparedStep {
+    /// The rapier context entity stepped.
+    pub context: Entity,
+    /// How many pipeline steps bevy_rapier is expected to run.
+    pub steps: usize,
+    /// The mode to restore after a frame run natively (several steps).
+    pub restore: Option<Mode>,
+}
+
+/// Warnings given once per run.
+#[derive(Copy, Clone, Debug, Default)]
+pub(crate) struct Warned {
+    pub several_steps: bool,
+    pub step_mismatch: bool,
+    pub other_context: bool,
+    pub several_contexts: bool,
+}
+
+impl KimpactState {
+    pub(crate) fn new(kimpact: Kimpact) -> Self {
+        Self {
+            kimpact,
+            marks: Marks::default(),
+            step: None,
+            applied: None,
+            warned: Warned::default(),
+        }
+    }
+
+    /// The resolver (read only: its marks follow the
+    /// [`KimpactCollider`](crate::KimpactCollider) components, its mode and
+    /// law the [`KimpactSettings`](crate::KimpactSettings)).
+    pub fn kimpact(&self) -> &Kimpact {
+        &self.kimpact
+    }
+
+    /// Totals since the app started: impacts, energy dissipated, steps.
+    pub fn stats(&self) -> Stats {
+        self.kimpact.stats()
+    }
+
+    /// The mode in force.
+    pub fn mode(&self) -> Mode {
+        self.kimpact.mode()
+    }
+
+    /// The law in force (the last valid [`KimpactSettings::law`](crate::KimpactSettings::law)).
+    pub fn law(&self) -> &Law<crate::kimpact_rapier::math::Real> {
+        self.kimpact.law()
+    }
+
+    /// Whether the collider of `entity` is marked (it has a
+    /// [`KimpactCollider`](crate::KimpactCollider) and its rapier collider
+    /// exists in the governed context).
+    pub fn is_marked(&self, entity: Entity) -> bool {
+        self.marks
+            .handle(entity)
+            .is_some_and(|h| self.kimpact.is_marked(h))
+    }
+
+    /// How many collider entities are marked.
+    pub fn marked_count(&self) -> usize {
+        self.marks.by_entity.len()
+    }
+
+    /// Mark the collider `handle` of `entity` (unmarking the entity's
+    /// previous collider, if rapier gave it a new one).
+    pub(crate) fn mark(&mut self, colliders: &ColliderSet, entity: Entity, handle: ColliderHandle) {
+        if let Some(old) = self.marks.handle(entity) {
+            if old == handle && self.kimpact.is_marked(handle) {
+                return;
+            }
+            self.unmark(entity);
+        }
+        match self.kimpact.mark(colliders, handle) {
+            Ok(()) => self.marks.insert(entity, handle),
+            Err(e) => log::debug!("kimpact: {entity} not marked: {e}"),
+        }
+    }
+
+    /// Unmark the collider of `entity`, if it was marked.
+    pub(crate) fn unmark(&mut self, entity: Entity) {
+        if let Some(handle) = self.marks.remove(entity) {
+            self.kimpact.unmark(handle);
+        }
+    }
+}
+
+/// The marked colliders by entity, and by collider index (for the hook,
+/// which tells the governed context's pairs from another context's).
+#[derive(Default)]
+pub(crate) struct Marks {
+    by_entity: HashMap<Entity, ColliderHandle>,
+    /// Per collider index: the marked handle there and its entity.
+    by_index: Vec<Option<(ColliderHandle, Entity)>>,
+}
+
+impl Marks {
+    pub fn handle(&self, entity: Entity) -> Option<ColliderHandle> {
+        self.by_entity.get(&entity).copied()
+    }
+
+    fn insert(&mut self, entity: Entity, handle: ColliderHandle) {
+        self.by_entity.insert(entity, handle);
+        let index = handle.into_raw_parts().0 as usize;
+        if self.by_index.len() <= index {
+            self.by_index.resize(index + 1, None);
+        }
+        self.by_index[index] = Some((handle, entity));
+    }
+
+    fn remove(&mut self, entity: Entity) -> Option<ColliderHandle> {
+        let handle = self.by_entity.remove(&entity)?;
+        let index = handle.into_raw_parts().0 as usize;
+        if let Some(slot) = self.by_index.get_mut(index)
+            && slot.is_some_and(|(h, _)| h == handle)
+        {
+            *slot = None;
+        }
+        Some(handle)
+    }
+
+    /// Whether `handle` in `colliders` is a collider marked here: the same
+    /// handle, and the collider's user data (bevy_rapier's entity bits)
+    /// naming the entity that was marked. A collider of another rapier
+    /// context with the same handle has another entity.
+    pub fn owns(&self, colliders: &ColliderSet, handle: ColliderHandle) -> bool {
+        let index = handle.into_raw_parts().0 as usize;
+        match self.by_index.get(index) {
+            Some(Some((h, entity))) if *h == handle => colliders
+                .get(handle)
+                .is_some_and(|co| co.user_data == u128::from(entity.to_bits())),
+            _ => false,
+        }
+    }
+}
