@@ -339,7 +339,7 @@ macro_rules! rapier_backend {
                                 .friction(0.0)
                                 .restitution(e_ball as Real);
                             let (handle, c) = world.insert(body, collider);
-                            kimpact.mark(c);
+                            kimpact.mark(&world.colliders, c).expect("inserted just above");
                             handle
                         })
                         .collect();

@@ -54,7 +54,9 @@ fn run(mode: Mode) -> (f32, f32, u64) {
         );
         let collider = ColliderBuilder::ball(0.5).restitution(1.0).friction(0.0);
         let handle = colliders.insert_with_parent(collider, body, &mut bodies);
-        kimpact.mark(handle); // kimpact: this disk follows the law
+        kimpact
+            .mark(&colliders, handle)
+            .expect("inserted just above"); // kimpact: this disk follows the law
     }
     let energy = |b: &RigidBodySet| {
         b.iter()

@@ -106,7 +106,9 @@ impl World {
                     .friction(0.0)
                     .restitution(1.0);
                 let (handle, c) = world.insert(body, collider);
-                kimpact.mark(c);
+                kimpact
+                    .mark(&world.colliders, c)
+                    .expect("inserted just above");
                 handle
             })
             .collect();

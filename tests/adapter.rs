@@ -10,6 +10,7 @@ mod d2 {
         include!("cases/world.rs");
     }
     include!("cases/adapter.rs");
+    include!("cases/contract.rs");
 }
 
 mod d3 {
@@ -19,6 +20,7 @@ mod d3 {
         include!("cases/world.rs");
     }
     include!("cases/adapter.rs");
+    include!("cases/contract.rs");
 }
 
 mod d2_f64 {
@@ -28,6 +30,7 @@ mod d2_f64 {
         include!("cases/world.rs");
     }
     include!("cases/adapter.rs");
+    include!("cases/contract.rs");
     include!("cases/soak.rs");
     include!("cases/long.rs");
 
@@ -44,6 +47,7 @@ mod d3_f64 {
         include!("cases/world.rs");
     }
     include!("cases/adapter.rs");
+    include!("cases/contract.rs");
     include!("cases/soak.rs");
     include!("cases/long.rs");
 

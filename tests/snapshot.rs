@@ -30,7 +30,9 @@ fn build(mode: Mode) -> (PhysicsWorld, Kimpact, Vec<RigidBodyHandle>) {
         let v = Vector::new(((i * 7) % 5) as f32 - 2.0, 0.0, ((i * 3) % 4) as f32 - 1.5);
         let body = RigidBodyBuilder::dynamic().translation(p).linvel(v);
         let (b, c) = world.insert(body, ColliderBuilder::ball(0.5).friction(0.0));
-        kimpact.mark(c);
+        kimpact
+            .mark(&world.colliders, c)
+            .expect("inserted just above");
         balls.push(b);
     }
     (world, kimpact, balls)

@@ -149,7 +149,7 @@ fn sleeping_ball_wakes_when_hit_and_unmarking_restores_rapier() {
     let (b, cb) = w
         .world
         .insert(body, ColliderBuilder::ball(0.5).mass(1.0).friction(0.0));
-    w.kimpact.mark(cb);
+    w.kimpact.mark(&w.world.colliders, cb).unwrap();
     assert!(w.world.bodies[b].is_sleeping());
     for _ in 0..60 {
         w.step();
@@ -187,7 +187,7 @@ fn fast_balls_with_ccd_do_not_tunnel_through_walls() {
                 .friction(0.0)
                 .restitution(1.0),
         );
-        w.kimpact.mark(cf);
+        w.kimpact.mark(&w.world.colliders, cf).unwrap();
         let mut he = Vector::splat(5.0);
         he[0] = 0.05;
         w.wall(Vector::X * 12.0, he);
@@ -475,7 +475,7 @@ fn woken_balls_pass_the_impact_on() {
                 .friction(0.0)
                 .restitution(0.0);
             let (b, c) = w.world.insert(body, collider);
-            w.kimpact.mark(c);
+            w.kimpact.mark(&w.world.colliders, c).unwrap();
             row.push(b);
         }
         for _ in 0..60 {
@@ -708,7 +708,7 @@ fn calm_world(mode: Mode, calm: bool) -> TestWorld {
         ..Default::default()
     };
     let law = Law::new(LawParams::default()).unwrap();
-    w.kimpact = k::Kimpact::with_config(law, mode, config);
+    w.kimpact = k::Kimpact::with_config(law, mode, config).unwrap();
     w
 }
 
@@ -735,7 +735,7 @@ fn calm_run(mode: Mode, partner: CalmPartner, calm: bool) -> CalmOutcome {
             let body = RigidBodyBuilder::dynamic().translation(p).linvel(v).can_sleep(false);
             let collider = ColliderBuilder::ball(r).mass(1.0).friction(0.0).restitution(0.0);
             let (_, c) = w.world.insert(body, collider);
-            w.kimpact.mark(c);
+            w.kimpact.mark(&w.world.colliders, c).unwrap();
             list.push(c);
         }
         list
@@ -755,7 +755,7 @@ fn calm_run(mode: Mode, partner: CalmPartner, calm: bool) -> CalmOutcome {
             let body = RigidBodyBuilder::dynamic().translation(Vector::X * 1.0).sleeping(true);
             let collider = ColliderBuilder::ball(r).mass(1.0).friction(0.0).restitution(0.0);
             let (_, c) = w.world.insert(body, collider);
-            w.kimpact.mark(c);
+            w.kimpact.mark(&w.world.colliders, c).unwrap();
             vec![c]
         }
     };
@@ -840,7 +840,7 @@ fn a_nan_ball_inside_a_calm_block_keeps_its_neighbours_hooked() {
                 .can_sleep(false);
             let collider = ColliderBuilder::ball(r).mass(1.0).friction(0.0).restitution(0.0);
             let (b, c) = w.world.insert(body, collider);
-            w.kimpact.mark(c);
+            w.kimpact.mark(&w.world.colliders, c).unwrap();
             balls.push((b, c));
         }
         for _ in 0..3 {

@@ -45,7 +45,9 @@ impl TestWorld {
             .friction(0.0)
             .restitution(1.0);
         let (b, c) = self.world.insert(body, collider);
-        self.kimpact.mark(c);
+        self.kimpact
+            .mark(&self.world.colliders, c)
+            .expect("inserted just above");
         (b, c)
     }
 

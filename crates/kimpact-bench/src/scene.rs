@@ -98,7 +98,8 @@ impl Bench {
                     calm_neighbourhoods: !crate::no_calm(),
                     ..Default::default()
                 },
-            ),
+            )
+            .expect("the default configuration with calm_neighbourhoods set is valid"),
             balls: Vec::new(),
             half: Vector::ZERO,
         }
@@ -117,7 +118,9 @@ impl Bench {
             .friction(material.friction)
             .restitution(material.restitution);
         let (b, c) = self.world.insert(body, collider);
-        self.kimpact.mark(c);
+        self.kimpact
+            .mark(&self.world.colliders, c)
+            .expect("inserted just above");
         self.balls.push(b);
         b
     }

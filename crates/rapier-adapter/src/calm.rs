@@ -51,19 +51,21 @@
 
 use std::cmp::Ordering;
 
+use crate::body_view::path_velocity;
+use crate::leaves::for_each_leaf;
+use crate::marks::Marks;
 use crate::math::{Real, Vector};
 use crate::rapier::parry::bounding_volume::{Aabb, BoundingVolume};
 use crate::rapier::parry::query::DefaultQueryDispatcher;
 use crate::rapier::prelude::*;
-use crate::replay::{SweepGrid, for_each_leaf};
-use crate::resolver::{is_marked, path_velocity};
+use crate::sweep_grid::SweepGrid;
 
 /// What the test reads of the world for one step.
 pub(crate) struct Frame<'a> {
     pub bodies: &'a RigidBodySet,
     pub colliders: &'a ColliderSet,
     pub broad_phase: &'a BroadPhaseBvh,
-    pub marked: &'a [u32],
+    pub marks: &'a Marks,
     pub fixed_partners: bool,
     pub gravity: Vector,
     pub dt: Real,
@@ -225,7 +227,7 @@ impl Calm {
                 s.stamp.resize(index + 1, 0);
             }
             s.stamp[index] = s.epoch;
-            if !(is_marked(f.marked, ch) || (!dynamic && f.fixed_partners)) {
+            if !(f.marks.contains(ch) || (!dynamic && f.fixed_partners)) {
                 continue;
             }
             let Some(co) = f.colliders.get(ch) else {
@@ -433,7 +435,7 @@ fn partner(f: &Frame, index: u32) -> Option<(Aabb, Vector, u32)> {
     let (co, ch) = f.colliders.get_unknown_gen(index)?;
     let rb = co.parent().and_then(|h| f.bodies.get(h));
     let governed =
-        is_marked(f.marked, ch) || (f.fixed_partners && rb.is_none_or(|rb| !rb.is_dynamic()));
+        f.marks.contains(ch) || (f.fixed_partners && rb.is_none_or(|rb| !rb.is_dynamic()));
     if !governed {
         return None;
     }

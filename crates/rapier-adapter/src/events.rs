@@ -1,6 +1,7 @@
 //! What kimpact reports of the impacts it handles.
 
-use crate::math::{Real, Vector};
+use crate::candidates::Candidate;
+use crate::math::{DIM, Real, Vector, from_law};
 use crate::rapier::prelude::ColliderHandle;
 
 /// One impact resolved by the law. Pairs that kimpact takes over produce no
@@ -67,4 +68,60 @@ pub struct Stats {
     /// summed over the steps.
     #[cfg_attr(feature = "serde-serialize", serde(default))]
     pub calm_bodies: u64,
+}
+
+/// A step's impact events and the running totals: what every stage
+/// writes its results to.
+#[derive(Clone, Debug, Default)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
+pub(crate) struct EventLog {
+    pub events: Vec<ImpactEvent>,
+    pub stats: Stats,
+}
+
+impl EventLog {
+    /// Record one law impact of pair `c` at `time`.
+    pub(crate) fn push(
+        &mut self,
+        c: &Candidate,
+        time: Real,
+        point: Vector,
+        impact: &kimpact::Impact<Real, DIM>,
+        by_solver: bool,
+    ) {
+        self.stats.impacts += 1;
+        self.stats.clamped += u64::from(impact.clamped);
+        self.stats.dissipated += f64::from(impact.dissipated);
+        self.events.push(ImpactEvent {
+            collider1: c.collider1,
+            collider2: c.collider2,
+            time,
+            by_solver,
+            point,
+            normal: from_law(&impact.normal),
+            impulse: impact.impulse,
+            approach_speed: impact.approach_speed,
+            restitution: impact.restitution,
+            dissipated: impact.dissipated,
+            clamped: impact.clamped,
+        });
+    }
+
+    /// Count and log a pair skipped for non-finite body data.
+    pub(crate) fn skip(&mut self, c: &Candidate) {
+        log::warn!(
+            "kimpact: skipped the pair {:?}/{:?}: a body has a non-finite velocity or mass",
+            c.collider1,
+            c.collider2
+        );
+        self.stats.skipped_non_finite += 1;
+    }
+
+    /// Count a step that hit the event cap.
+    pub(crate) fn cap_hit(&mut self) {
+        self.stats.event_cap_hits += 1;
+    }
 }

@@ -17,7 +17,9 @@
 //! [`Kimpact`] from a [`Law`] and a [`Mode`], [`Kimpact::mark`] the colliders
 //! that follow the law, and step through [`Kimpact::step`] (same arguments as
 //! `PhysicsPipeline::step`, the pipeline first) or [`Kimpact::step_world`].
-//! Everything not marked keeps rapier's behaviour.
+//! Everything not marked keeps rapier's behaviour. A program that calls
+//! `PhysicsPipeline::step` itself runs kimpact's three stages around it:
+//! [`Kimpact::before_step`], [`Kimpact::hooks`], [`Kimpact::after_step`].
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
 // One source for f32 and f64: `f64::from(x)` is a conversion in one build
@@ -40,14 +42,41 @@ pub extern crate rapier_f64 as rapier;
 
 pub use kimpact::{FixedPartner, Law, LawError, LawParams};
 
+// The module map, from the bottom up (no module imports one above it):
+// math, mode, frame, config     plain types and the step's constants
+// material                      law parameters per collider
+// body_view, marks, candidates  how the law sees bodies and pairs
+// pair_filter                   whether rapier would let a pair touch
+// events                        what the stages report
+// cast, sweep_grid, leaves      geometry: times of impact, grids, rapier's tree
+// calm, prepare                 stage 1: hook flags and starts
+// replay                        stages 1 and 3: impacts in time order
+// hook                          stage 2: the contact hook
+// resolver                      Kimpact: the public resolver and its stages
+mod body_view;
 mod calm;
+mod candidates;
 mod cast;
+mod config;
 mod events;
+mod frame;
+mod hook;
+mod leaves;
+mod marks;
+mod material;
 pub mod math;
 mod mode;
+mod pair_filter;
+mod prepare;
 mod replay;
 mod resolver;
+mod sweep_grid;
+#[cfg(test)]
+mod test_rng;
 
+pub use config::{Config, ConfigError};
 pub use events::{ImpactEvent, Stats};
+pub use hook::StepHooks;
+pub use material::Material;
 pub use mode::{Mode, ParseModeError};
-pub use resolver::{Config, Kimpact};
+pub use resolver::{HandleError, Kimpact, StageError};

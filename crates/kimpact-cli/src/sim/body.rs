@@ -37,7 +37,8 @@ pub(super) fn run(
         fixed_partners: scene.active(Effect::FixedWalls),
         ..k::Config::default()
     };
-    let mut kimpact = k::Kimpact::with_config(law, kmode, config);
+    let mut kimpact = k::Kimpact::with_config(law, kmode, config)
+        .expect("the default configuration with fixed_partners set is valid");
 
     let ccd = scene.ccd_flags();
     // rapier's CCD sweeps a fast body against fixed colliders, and a CCD
@@ -89,7 +90,9 @@ pub(super) fn run(
         // Only bodies that can meet the law are marked (never in native
         // mode, where kimpact does nothing).
         if b.law && !b.fixed && kmode != k::Mode::Native {
-            kimpact.mark(c);
+            kimpact
+                .mark(&world.colliders, c)
+                .expect("inserted just above");
             law_bodies += 1;
         }
         let (index, _) = c.into_raw_parts();

@@ -1,0 +1,106 @@
+//! How the law sees a rapier body: its mass (finite, or infinite for fixed
+//! and kinematic bodies) and its velocity, the straight path rapier
+//! integrates it along, and where it started the step.
+
+use kimpact::{Body, LawError, Mass};
+
+use crate::math::{DIM, Real, Vector, to_law};
+use crate::rapier::prelude::*;
+
+/// How a body takes part in the law.
+#[derive(Copy, Clone, Debug)]
+pub(crate) struct LawBody {
+    pub mass: Mass<Real>,
+    pub velocity: Vector,
+}
+
+impl LawBody {
+    /// Whether the data can enter the law: a finite velocity and a finite,
+    /// positive mass (or an infinite one).
+    pub(crate) fn is_finite(&self) -> bool {
+        self.velocity.is_finite()
+            && match self.mass {
+                Mass::Finite(m) => m.is_finite() && m > 0.0,
+                Mass::Infinite => true,
+            }
+    }
+
+    /// The body checked for the law: non-finite or non-positive data is an
+    /// error.
+    pub(crate) fn checked(&self) -> Result<Body<Real, DIM>, LawError> {
+        match self.mass {
+            Mass::Finite(m) => Body::new(m, to_law(self.velocity)),
+            Mass::Infinite => Body::immovable(to_law(self.velocity)),
+        }
+    }
+}
+
+/// The body of a collider as the law sees it: a dynamic body with its mass
+/// and velocity, any other (or none) immovable.
+pub(crate) fn law_body(bodies: &RigidBodySet, parent: Option<RigidBodyHandle>) -> LawBody {
+    match parent.and_then(|h| bodies.get(h)) {
+        Some(rb) if rb.is_dynamic() => LawBody {
+            mass: Mass::Finite(rb.mass()),
+            velocity: rb.linvel(),
+        },
+        Some(rb) => LawBody {
+            mass: Mass::Infinite,
+            velocity: rb.linvel(),
+        },
+        None => LawBody {
+            mass: Mass::Infinite,
+            velocity: Vector::ZERO,
+        },
+    }
+}
+
+/// The velocity body `rb` moves along this step, on the straight path
+/// rapier integrates: its velocity plus gravity's `gravity_dt` (scaled by
+/// its gravity scale) for a dynamic body, its velocity for another.
+pub(crate) fn path_velocity(rb: &RigidBody, gravity_dt: Vector) -> Vector {
+    if rb.is_dynamic() {
+        rb.linvel() + gravity_dt * rb.gravity_scale()
+    } else {
+        rb.linvel()
+    }
+}
+
+/// The start of a step for one body (exact mode).
+#[derive(Copy, Clone, Debug, Default)]
+struct Start {
+    /// Body generation + 1 (0: nothing stored).
+    tag: u32,
+    translation: Vector,
+}
+
+/// Where bodies started the step, by body index (exact mode): what the
+/// replay after the step needs to rebuild each body's straight path.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Starts {
+    slots: Vec<Start>,
+}
+
+impl Starts {
+    /// Record where body `handle` starts the step.
+    #[inline]
+    pub(crate) fn store(&mut self, handle: RigidBodyHandle, translation: Vector) {
+        let (index, generation) = handle.into_raw_parts();
+        let index = index as usize;
+        if self.slots.len() <= index {
+            self.slots.resize(index + 1, Start::default());
+        }
+        self.slots[index] = Start {
+            tag: generation.wrapping_add(1),
+            translation,
+        };
+    }
+
+    /// Where body `handle` started this step, if stored.
+    pub(crate) fn of(&self, handle: RigidBodyHandle) -> Option<Vector> {
+        let (index, generation) = handle.into_raw_parts();
+        self.slots
+            .get(index as usize)
+            .filter(|s| s.tag == generation.wrapping_add(1))
+            .map(|s| s.translation)
+    }
+}

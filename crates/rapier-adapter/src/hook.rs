@@ -1,0 +1,229 @@
+//! kimpact's contact hook: the [`PhysicsHooks`] handed to rapier's step.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use kimpact::Law;
+
+use crate::body_view::{LawBody, law_body, path_velocity};
+use crate::candidates::{Candidate, Candidates};
+use crate::frame::StepFrame;
+use crate::marks::Marks;
+use crate::math::{Real, Vector};
+use crate::mode::Mode;
+use crate::rapier::prelude::*;
+
+/// The [`PhysicsHooks`] of one step, from [`crate::Kimpact::hooks`]: pass it
+/// to `PhysicsPipeline::step` between [`crate::Kimpact::before_step`] and
+/// [`crate::Kimpact::after_step`]. It runs the user's own hooks first (for
+/// the pairs whose colliders carry the user's own hook flags), then kimpact's
+/// for the pairs the law governs. It only reads kimpact's state and appends
+/// to a mutex-guarded list, so it is `Sync` and works with rapier's
+/// `parallel` feature.
+pub struct StepHooks<'a> {
+    pub(crate) law: &'a Law<Real>,
+    /// `None` outside a prepared step: then only the user's hooks run.
+    pub(crate) frame: Option<StepFrame>,
+    pub(crate) mode: Mode,
+    pub(crate) marks: &'a Marks,
+    /// Per collider index: whether `MODIFY_SOLVER_CONTACTS` is set by
+    /// kimpact (not by the user).
+    pub(crate) ours: &'a [bool],
+    pub(crate) fixed_partners: bool,
+    pub(crate) candidates: &'a Candidates,
+    /// Pairs cut off by the runtime guard this step.
+    pub(crate) guarded: &'a AtomicU64,
+    pub(crate) user: &'a dyn PhysicsHooks,
+}
+
+impl StepHooks<'_> {
+    fn user_flagged(&self, colliders: &ColliderSet, c: ColliderHandle) -> bool {
+        let (index, _) = c.into_raw_parts();
+        colliders.get(c).is_some_and(|co| {
+            co.active_hooks()
+                .contains(ActiveHooks::MODIFY_SOLVER_CONTACTS)
+        }) && !self.ours.get(index as usize).copied().unwrap_or(false)
+    }
+}
+
+impl PhysicsHooks for StepHooks<'_> {
+    fn filter_contact_pair(&self, context: &PairFilterContext) -> Option<SolverFlags> {
+        self.user.filter_contact_pair(context)
+    }
+
+    fn filter_intersection_pair(&self, context: &PairFilterContext) -> bool {
+        self.user.filter_intersection_pair(context)
+    }
+
+    fn modify_solver_contacts(&self, context: &mut ContactModificationContext) {
+        let (c1, c2) = (context.collider1, context.collider2);
+        if self.user_flagged(context.colliders, c1) || self.user_flagged(context.colliders, c2) {
+            self.user.modify_solver_contacts(context);
+        }
+        let Some(frame) = self.frame else {
+            return;
+        };
+        if self.mode == Mode::Native
+            || !self.marks.governs(
+                self.fixed_partners,
+                context.colliders,
+                context.bodies,
+                c1,
+                c2,
+            )
+        {
+            return;
+        }
+        let (dt, rest_speed) = (frame.dt, frame.rest_speed);
+        // The approach speed gravity can add over the step.
+        let margin = frame.gravity.length() * dt;
+        let (bodies, colliders) = (context.bodies, context.colliders);
+        let (rb1, rb2) = (context.rigid_body1, context.rigid_body2);
+        let b1 = law_body(bodies, context.rigid_body1);
+        let b2 = law_body(bodies, context.rigid_body2);
+        let Some(rigid) = context.rigid_mut() else {
+            return;
+        };
+        if rigid.solver_contacts.is_empty() {
+            return;
+        }
+        // Runtime guard: a body with a non-finite velocity or mass is cut
+        // off from its law partners (rapier's solver would spread the NaN).
+        if !(b1.is_finite() && b2.is_finite()) {
+            rigid.solver_contacts.clear();
+            self.guarded.fetch_add(1, Ordering::Relaxed);
+            return;
+        }
+        let n = *rigid.normal;
+        let w = b2.velocity - b1.velocity;
+        let approach = -w.dot(n);
+        // Newness as rapier's solver decides it: the contact carried no
+        // impulse at the previous step.
+        let fresh = rigid
+            .solver_contacts
+            .iter()
+            .all(|c| c.contact_id[0] & NEW_CONTACT_BIT != 0);
+        let (dist, point) = rigid
+            .solver_contacts
+            .iter()
+            .map(|c| (c.dist, (c.anchor1 + c.anchor2) * 0.5))
+            .fold(
+                (Real::MAX, Vector::ZERO),
+                |acc, x| if x.0 < acc.0 { x } else { acc },
+            );
+        // rapier's speculative contact is linear: it takes a pair whose gap
+        // closes by more than the gap along the normal as meeting, even when
+        // the bodies' real paths pass each other (a graze), and bounces it
+        // ("ghost" collisions; in impulse mode these are the pairs the pass
+        // before the step found not meeting). Such a pair keeps no contact
+        // this step: it is apart now and does not meet on its path.
+        let reach = (approach + margin) * dt;
+        if self.mode != Mode::Exact
+            && approach > rest_speed
+            && dist > 0.0
+            && dist <= reach
+            && !self.meets(&frame, bodies, colliders, c1, c2, rb1, rb2)
+        {
+            rigid.solver_contacts.clear();
+            return;
+        }
+        // Not an impact (resting, sliding, separating, or a contact rapier has
+        // been carrying): hand it to rapier with no bounce. A NaN approach
+        // fails the comparison and lands here too.
+        if !(fresh && approach > rest_speed && approach.is_finite()) {
+            *rigid.restitution = 0.0;
+            return;
+        }
+        match self.mode {
+            Mode::Native => {}
+            // Impulse mode resolved the impacts it could see coming before
+            // the step (those pairs now separate); a pair it could not see
+            // (inserted since the last step, or not yet in rapier's broad
+            // phase) gets the law through rapier's restitution instead.
+            Mode::Restitution | Mode::Impulse => {
+                let tangential = (w + n * approach).length();
+                let law = self.marks.law(self.law, c1, c2);
+                match law.restitution(b1.mass, b2.mass, approach, tangential) {
+                    Ok(Some(r)) => {
+                        *rigid.restitution = r.coefficient;
+                        // Kept for the report if the bodies can meet within
+                        // the step; reported if rapier's contact then carried
+                        // an impulse (a speculative contact further away gets
+                        // none, and stays fresh for the next step).
+                        if dist <= reach * 1.01 + Real::EPSILON {
+                            self.record(context, n, point, dist, b1, b2);
+                        }
+                    }
+                    // Invalid masses (a NaN mass reached rapier): no bounce,
+                    // and the post-step pass reports it.
+                    _ => *rigid.restitution = 0.0,
+                }
+            }
+            Mode::Exact => {
+                // rapier leaves the pair alone this step; kimpact resolves it
+                // after the step.
+                rigid.solver_contacts.clear();
+                self.record(context, n, point, dist, b1, b2);
+            }
+        }
+    }
+}
+
+impl StepHooks<'_> {
+    /// Whether colliders `c1` and `c2` meet within this step on the straight
+    /// paths rapier is about to integrate (velocity plus gravity), by a
+    /// linear cast (closed form for two balls and for a ball and a cuboid,
+    /// parry's shape cast otherwise).
+    #[allow(clippy::too_many_arguments)]
+    fn meets(
+        &self,
+        frame: &StepFrame,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        c1: ColliderHandle,
+        c2: ColliderHandle,
+        rb1: Option<RigidBodyHandle>,
+        rb2: Option<RigidBodyHandle>,
+    ) -> bool {
+        let path = |h: Option<RigidBodyHandle>| {
+            h.and_then(|h| bodies.get(h))
+                .map_or(Vector::ZERO, |rb| path_velocity(rb, frame.gravity_dt()))
+        };
+        let (Some(co1), Some(co2)) = (colliders.get(c1), colliders.get(c2)) else {
+            return true;
+        };
+        // Anything but a clear "no" (an unsupported shape pair) is a meeting.
+        !matches!(
+            crate::cast::cast(
+                co1.position(),
+                path(rb1),
+                co1.shape(),
+                co2.position(),
+                path(rb2),
+                co2.shape(),
+                frame.dt * (1.0 + crate::replay::PRE_HORIZON),
+                true,
+            ),
+            Ok(None)
+        )
+    }
+
+    fn record(
+        &self,
+        context: &ContactModificationContext,
+        normal: Vector,
+        point: Vector,
+        dist: Real,
+        start1: LawBody,
+        start2: LawBody,
+    ) {
+        self.candidates.push(Candidate {
+            collider1: context.collider1,
+            collider2: context.collider2,
+            normal,
+            point,
+            dist,
+            start1,
+            start2,
+        });
+    }
+}

@@ -1,0 +1,122 @@
+//! Which colliders follow the law, and which pairs the law governs.
+
+use kimpact::Law;
+
+use crate::material::{Material, pair_law};
+use crate::math::Real;
+use crate::rapier::prelude::*;
+
+/// The marked colliders: by collider index, the generation + 1 of the
+/// marked handle (0: not marked), so a handle whose slot rapier reused for
+/// another collider is not marked by accident; and their materials.
+#[derive(Clone, Debug, Default)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
+pub(crate) struct Marks {
+    tags: Vec<u32>,
+    /// By collider index, the material of a marked collider that has one;
+    /// empty while no collider has one (a scene without materials pays one
+    /// length test per law it asks for).
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    materials: Vec<Option<Material>>,
+}
+
+impl Marks {
+    /// Mark `handle` (the caller has checked it is in the collider set, so
+    /// its index is bounded by the set's size).
+    pub(crate) fn insert(&mut self, handle: ColliderHandle) {
+        let (index, generation) = handle.into_raw_parts();
+        let index = index as usize;
+        if self.tags.len() <= index {
+            self.tags.resize(index + 1, 0);
+        }
+        self.tags[index] = generation.wrapping_add(1);
+    }
+
+    /// Unmark `handle`; whether it was marked. A handle of another
+    /// generation than the marked one leaves the mark alone.
+    pub(crate) fn remove(&mut self, handle: ColliderHandle) -> bool {
+        let (index, generation) = handle.into_raw_parts();
+        match self.tags.get_mut(index as usize) {
+            Some(m) if *m == generation.wrapping_add(1) => {
+                *m = 0;
+                if let Some(slot) = self.materials.get_mut(index as usize) {
+                    *slot = None;
+                }
+                true
+            }
+            _ => false,
+        }
+    }
+
+    /// Set (or clear) the material of marked collider `handle`.
+    pub(crate) fn set_material(&mut self, handle: ColliderHandle, material: Option<Material>) {
+        let index = handle.into_raw_parts().0 as usize;
+        if material.is_none() && self.materials.len() <= index {
+            return;
+        }
+        if self.materials.len() <= index {
+            self.materials.resize(index + 1, None);
+        }
+        self.materials[index] = material;
+    }
+
+    /// The material of `handle`, if it is marked with one.
+    pub(crate) fn material(&self, handle: ColliderHandle) -> Option<&Material> {
+        if !self.contains(handle) {
+            return None;
+        }
+        self.materials
+            .get(handle.into_raw_parts().0 as usize)?
+            .as_ref()
+    }
+
+    /// The law for the pair `c1`/`c2`: `base` unless either carries a
+    /// material (see [`Material`]).
+    #[inline]
+    pub(crate) fn law(
+        &self,
+        base: &Law<Real>,
+        c1: ColliderHandle,
+        c2: ColliderHandle,
+    ) -> Law<Real> {
+        if self.materials.is_empty() {
+            return *base;
+        }
+        pair_law(base, self.material(c1), self.material(c2))
+    }
+
+    /// Whether `handle` is marked.
+    #[inline]
+    pub(crate) fn contains(&self, handle: ColliderHandle) -> bool {
+        let (index, generation) = handle.into_raw_parts();
+        self.tags.get(index as usize) == Some(&(generation.wrapping_add(1)))
+    }
+
+    /// Whether the law governs the pair: both marked, or one marked and the
+    /// other immovable (when `fixed_partners`).
+    pub(crate) fn governs(
+        &self,
+        fixed_partners: bool,
+        colliders: &ColliderSet,
+        bodies: &RigidBodySet,
+        c1: ColliderHandle,
+        c2: ColliderHandle,
+    ) -> bool {
+        let (m1, m2) = (self.contains(c1), self.contains(c2));
+        if m1 && m2 {
+            return true;
+        }
+        if !(fixed_partners && (m1 || m2)) {
+            return false;
+        }
+        let other = if m1 { c2 } else { c1 };
+        let parent = colliders.get(other).and_then(|c| c.parent());
+        match parent.and_then(|h| bodies.get(h)) {
+            Some(rb) => !rb.is_dynamic(),
+            None => true,
+        }
+    }
+}

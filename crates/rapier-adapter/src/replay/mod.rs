@@ -1,0 +1,757 @@
+//! Exact mode: the impacts of one step, resolved in time order at their
+//! analytic times of impact, after rapier's step (and impulse mode's pass
+//! before it).
+//!
+//! rapier integrates positions with the velocity it solved, so within a step
+//! every body moves on a straight line from its start `x₀` to its end `x₁`,
+//! at `v̄ = (x₁ − x₀)/dt` (which includes gravity and the contacts rapier kept,
+//! such as the table under a billiard ball). The replay takes those lines as
+//! the motion, finds when the pairs the hook handed over meet (a linear
+//! cast: closed form for two balls and for a ball and a cuboid, parry's
+//! shape cast otherwise), applies the law there,
+//! bends the two lines, and repeats, in time order. A body whose velocity
+//! changes brings its touching neighbours into the replay (chains: a row of
+//! touching balls is a chain of impacts within one step). Pairs first seen
+//! overlapping are rewound into the previous step, along the same lines.
+//! The law itself acts on the velocities the bodies really have (rapier's
+//! end-of-step velocity plus the changes so far), which differ from the path
+//! velocity when rapier's solver pushed a body apart from an overlap.
+//! At the end each body that took part gets `x = x(dt)` and
+//! `v = v_rapier + Σ Δv`.
+//!
+//! Impulse mode runs the same replay *before* rapier's step (`run_pre`):
+//! the lines are the ones rapier is about to integrate (`x₀ + (v + g dt) t`),
+//! a body's line after an impact restarts from `x₀` with its new velocity
+//! (that is how rapier will move it), and only velocities are written back.
+
+use std::cmp::Ordering;
+
+use kimpact::{Law, Mass};
+
+use crate::body_view::{LawBody, Starts, law_body, path_velocity};
+use crate::candidates::Candidate;
+use crate::config::Config;
+use crate::events::EventLog;
+use crate::frame::StepFrame;
+use crate::leaves::{LeafGrid, for_each_leaf};
+use crate::marks::Marks;
+use crate::math::{Pose, Real, Vector, from_law, to_law};
+use crate::mode::Mode;
+use crate::pair_filter::PairFilter;
+use crate::rapier::prelude::*;
+use crate::sweep_grid::SweepGrid;
+
+/// No pair: the end of a node's list of pairs.
+const NO_PAIR: u32 = u32::MAX;
+
+/// What a node of the replay stands for.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+enum Key {
+    Body(RigidBodyHandle),
+    /// A collider without a body (static geometry).
+    Collider(ColliderHandle),
+}
+
+/// A body on a piecewise-linear path: at `t_ref` it is at `p`, moving at `v`.
+#[derive(Copy, Clone, Debug)]
+struct Node {
+    key: Key,
+    dynamic: bool,
+    /// Position at the end of rapier's step.
+    x1: Vector,
+    p: Vector,
+    /// Path velocity: moves the body (`v̄ + ΣΔv`).
+    v: Vector,
+    /// Dynamic velocity: what the law sees (`v_rapier + ΣΔv`). It differs
+    /// from `v` when rapier's solver pushed the body this step (position
+    /// correction), so that the law conserves the energy of the velocities
+    /// the bodies really have.
+    u: Vector,
+    t_ref: Real,
+    /// What gravity adds to the body's velocity over the step (`g s dt`,
+    /// with its gravity scale `s`; zero for non-dynamic bodies).
+    g_dt: Vector,
+    expanded: bool,
+    hit: bool,
+    /// The last box swept for one of the node's colliders this run: a later
+    /// sweep of that collider inside it would find nothing new (a ball
+    /// bouncing back along its path in a pile).
+    swept: Option<(ColliderHandle, Aabb)>,
+    /// The collider of the node last put in [`Replay::bent`] (`None` once
+    /// swept).
+    sweep_due: Option<ColliderHandle>,
+    /// The body's mass as the law takes it, read at the node's first
+    /// impact (NaN until then; a dynamic body's mass does not change
+    /// during the run, and a pile hits the same nodes again and again).
+    mass: Real,
+}
+
+impl Node {
+    fn at(&self, t: Real) -> Vector {
+        self.p + self.v * (t - self.t_ref)
+    }
+
+    /// The velocity the law meets the body with at time `t`. After the
+    /// step, `u` is the velocity at its end: the law meets the bodies at
+    /// `t`, before gravity's share of the rest of the step (which they keep
+    /// afterwards). Against a fixed partner this is what keeps a bouncing
+    /// ball from gaining `m g dt` of momentum, and energy, at every bounce.
+    fn law_velocity(&self, phase: Phase, t: Real, dt: Real) -> Vector {
+        match phase {
+            Phase::Post => self.u - self.g_dt * ((dt - t) / dt),
+            Phase::Pre => self.u,
+        }
+    }
+
+    /// The box a ball riding the node's path sweeps from `from` to `to`:
+    /// its centre (`ball.1` off the path) ± its radius `ball.0`, as parry's.
+    fn swept_ball(&self, (radius, offset): BallOnPath, from: Real, to: Real) -> Aabb {
+        let r = Vector::splat(radius);
+        let (start, end) = (self.at(from) + offset, self.at(to) + offset);
+        Aabb::new(start.min(end) - r, start.max(end) + r)
+    }
+
+    /// `rest`, the pose of one of the node's colliders where the node is
+    /// now (`x1`), carried along the node's path to time `t`.
+    fn moved(&self, rest: Pose, t: Real) -> Pose {
+        let mut pose = rest;
+        pose.translation += self.at(t) - self.x1;
+        pose
+    }
+}
+
+/// A ball riding a node's path: its radius, and where its centre sits
+/// relative to the path (`centre(t) = node.at(t) + offset`).
+type BallOnPath = (Real, Vector);
+
+#[derive(Copy, Clone, Debug)]
+struct Pair {
+    a: usize,
+    b: usize,
+    c1: ColliderHandle,
+    c2: ColliderHandle,
+    /// Two balls: their radii and where their centres sit relative to
+    /// their nodes' paths (`centre(t) = node.at(t) + offset`), so that a
+    /// cast of the pair reads neither collider nor body. `None` for any
+    /// other pair of shapes.
+    balls: Option<[BallOnPath; 2]>,
+    /// The queued meeting's world normal (from `c1` towards `c2`) and
+    /// point (see [`crate::cast::Hit`]).
+    normal: Vector,
+    point: Vector,
+    /// The instant at which the pair, two balls apart then, waits in
+    /// [`Replay::apart`] to be predicted (see [`Replay::defer_if_apart`]);
+    /// −∞ when it does not.
+    apart_at: Real,
+    /// The next pair of node `a`'s list and of node `b`'s (`NO_PAIR` at the
+    /// end; see [`Replay::ends`]).
+    next: [u32; 2],
+}
+
+impl Pair {
+    /// Which of [`Pair::next`] threads node `n`'s list (`n` is `a` or `b`).
+    fn side(&self, n: usize) -> usize {
+        usize::from(self.a != n)
+    }
+}
+
+mod nodes;
+mod predict;
+mod queue;
+mod sweep;
+
+use queue::PairQueue;
+
+/// Before the step, how far past its end (relative to `dt`) a meeting is
+/// still taken in this step.
+pub(crate) const PRE_HORIZON: Real = 1e-3;
+
+/// Approach speeds below this times the sum of the two bodies' speeds are
+/// resting contacts: rounding level (7.6e-6 in f32, 1.4e-14 in f64).
+const REST_FLOOR: Real = 64.0 * Real::EPSILON;
+
+/// A body's or collider's node in the current run.
+#[derive(Copy, Clone, Debug, Default)]
+struct Slot {
+    /// The run that wrote it (0: never).
+    stamp: u32,
+    node: u32,
+}
+
+impl Slot {
+    /// `slots[index]` is `node` in the run stamped `stamp`.
+    fn set(slots: &mut Vec<Slot>, index: u32, stamp: u32, node: usize) {
+        let index = index as usize;
+        if slots.len() <= index {
+            slots.resize(index + 1, Slot::default());
+        }
+        slots[index] = Slot {
+            stamp,
+            node: node as u32,
+        };
+    }
+}
+
+/// When the replay runs, relative to rapier's step.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+enum Phase {
+    /// `Exact`: after the step, on the straight lines rapier moved the
+    /// bodies along; positions and velocities are written back.
+    #[default]
+    Post,
+    /// `Impulse`: before the step, on the lines the bodies are about to
+    /// follow (`v + g dt`); only velocities are written back, so rapier's
+    /// solver integrates the new velocities with every contact it keeps.
+    Pre,
+}
+
+/// What a replay run reads: the law, the settings and marks in force, the
+/// colliders flagged this step, where the bodies started it, the pairs the
+/// hook handed over, and the step's constants.
+pub(crate) struct ReplayInput<'a> {
+    pub law: &'a Law<Real>,
+    pub config: &'a Config,
+    pub marks: &'a Marks,
+    pub flagged: &'a [ColliderHandle],
+    pub starts: &'a Starts,
+    pub candidates: &'a [Candidate],
+    pub frame: StepFrame,
+    /// Whether rapier would let a pair the sweeps find touch.
+    pub filter: PairFilter<'a>,
+}
+
+/// What a replay run produces besides the bodies it changes: the impact
+/// events and totals, and the bodies it gave a new velocity (woken).
+pub(crate) struct ReplayOutput<'a> {
+    pub log: &'a mut EventLog,
+    pub woken: &'a mut Vec<RigidBodyHandle>,
+}
+
+/// Scratch space of the replay, kept between steps so that a steady state
+/// allocates nothing.
+#[derive(Default)]
+pub(crate) struct Replay {
+    phase: Phase,
+    /// `g dt`: what rapier adds to a dynamic body's velocity this step.
+    gravity_dt: Vector,
+    /// The rest speed of this run.
+    rest_speed: Real,
+    /// How far a body must move this step (besides more than half its
+    /// size) to be swept for partners: see [`Replay::run`].
+    sweep_reach: Real,
+    nodes: Vec<Node>,
+    /// The dynamic nodes whose path the law bent this run, in the order of
+    /// their first impact (the write-back walks these, not every node).
+    hit: Vec<usize>,
+    /// Node of a body, by the body's index (valid when stamped this run):
+    /// dense arrays rather than hash maps (hashing was a fifth of a step).
+    body_slots: Vec<Slot>,
+    /// Node of a collider (its body's, or its own for a collider without a
+    /// body), by the collider's index: which pairs are in the replay
+    /// already is known without reading the collider (see
+    /// [`Replay::has_pair`]).
+    collider_slots: Vec<Slot>,
+    /// This run's stamp.
+    stamp: u32,
+    pairs: Vec<Pair>,
+    /// For each node, the first and the last pair it is in (`NO_PAIR`
+    /// when none): the node's pairs are a list threaded through the pairs
+    /// themselves ([`Pair::next`]), in the order they were added. One list
+    /// per node in a vector of its own reallocated in steady state (which
+    /// node a body gets changes from step to step, and a ball's list could
+    /// land in a slot too small for it: 100 allocations per step in the
+    /// 10,000-ball 3D pit, restitution mode); these need no allocation
+    /// beyond `pairs`' and `nodes`' own.
+    ends: Vec<[u32; 2]>,
+    /// Each pair's next meeting.
+    queue: PairQueue,
+    /// Scratch of the bulk sweep: the colliders to sweep.
+    sweepers: Vec<Sweeper>,
+    /// After the step, pairs of sweepers (numbers into `sweepers`, the
+    /// lower first) whose boxes meet but whose balls do not, on the paths
+    /// they have before any impact: left out of the replay until an impact
+    /// changes the path of either (see [`Replay::bring_deferred`]).
+    deferred: Vec<(u32, u32)>,
+    /// For each node made before the bulk sweep, its range of
+    /// `deferred_by` (emptied once brought in).
+    deferred_range: Vec<(u32, u32)>,
+    /// Indices into `deferred`, grouped by node.
+    deferred_by: Vec<u32>,
+    /// Scratch of the bulk sweep: a uniform grid over the swept boxes.
+    grid: SweepGrid,
+    /// Scratch of the bulk sweep: (sweeper, collider index) pairs found.
+    found: Vec<(u32, u32)>,
+    /// Scratch of the bulk sweep, by collider index: the stamp of the run
+    /// in which the collider is a sweeper (its pairs with other sweepers
+    /// come from the grid alone).
+    sweeping: Vec<u32>,
+    /// The colliders (with their nodes) whose path an impact bent at the
+    /// instant being resolved: swept once the instant is over, along their
+    /// last path (see [`Replay::resolve`]).
+    /// With each, the collider's radius and centre offset when a pair of
+    /// balls gave them (see [`Replay::swept_aabb`]).
+    bent: Vec<(usize, ColliderHandle, Option<BallOnPath>)>,
+    /// The pairs of balls apart at the instant being resolved whose bodies
+    /// an impact there bent: predicted once the instant is over (see
+    /// [`Replay::defer_if_apart`]).
+    apart: Vec<u32>,
+    /// Scratch of a single sweep: the collider indices it met.
+    met: Vec<u32>,
+    /// rapier's broad-phase boxes in a grid, for the single sweeps of a run
+    /// that makes many (see [`LeafGrid`]).
+    leaves: LeafGrid,
+    /// Never sweep in bulk (tests compare both ways).
+    pub(crate) per_body_sweep: bool,
+}
+
+/// A collider the replay sweeps along its node's path this run.
+#[derive(Copy, Clone, Debug)]
+struct Sweeper {
+    collider: ColliderHandle,
+    node: usize,
+    /// The box it sweeps.
+    aabb: Aabb,
+    /// Its radius and centre offset if it is a ball (see [`Pair::balls`]).
+    ball: Option<BallOnPath>,
+}
+
+/// The linear cast ([`crate::cast::ball_ball`]) of two balls riding nodes
+/// `n1` and `n2`, each given as (radius, centre offset from its node's path;
+/// see [`Pair::balls`]), from time `from` over `window` seconds. The one
+/// cast of a pair of balls: `Replay::cast`, and the bulk sweep's test of
+/// whether a pair may be deferred, must agree.
+fn cast_balls(
+    n1: &Node,
+    (r1, o1): BallOnPath,
+    n2: &Node,
+    (r2, o2): BallOnPath,
+    from: Real,
+    window: Real,
+) -> Option<crate::cast::Hit> {
+    let (c1, c2) = (n1.at(from) + o1, n2.at(from) + o2);
+    crate::cast::ball_ball(c1, n1.v, r1, c2, n2.v, r2, window, false)
+}
+
+/// The bulk sweep replaces one broad-phase query per swept collider when at
+/// least this many colliders sweep, and at least one in `BULK_SHARE` of all
+/// colliders does (a gas: every ball moves more than rapier's prediction
+/// distance per step).
+const BULK_MIN: usize = 64;
+const BULK_SHARE: usize = 8;
+
+/// Where collider `co` is: its body's pose composed with its own offset
+/// (rapier syncs collider poses only inside its step, so before the step a
+/// body the user moved has a stale collider pose), or its own pose when it
+/// has no body. The replay shifts it along the body's path.
+fn rest_pose(bodies: &RigidBodySet, co: &Collider) -> Pose {
+    match (
+        co.parent().and_then(|h| bodies.get(h)),
+        co.position_wrt_parent(),
+    ) {
+        (Some(rb), Some(local)) => *rb.position() * *local,
+        _ => *co.position(),
+    }
+}
+
+impl Replay {
+    /// Bring the governed contacts of node `n`'s marked colliders into the
+    /// replay (once), and predict them from time `t`.
+    #[allow(clippy::too_many_arguments)]
+    fn expand(
+        &mut self,
+        input: &ReplayInput,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        narrow_phase: &NarrowPhase,
+        n: usize,
+        t: Real,
+        dt: Real,
+    ) {
+        if self.nodes[n].expanded {
+            return;
+        }
+        self.nodes[n].expanded = true;
+        let Key::Body(handle) = self.nodes[n].key else {
+            return;
+        };
+        let Some(rb) = bodies.get(handle) else { return };
+        let config = input.config;
+        for &ch in rb.colliders() {
+            for cp in narrow_phase.contact_pairs_with(ch) {
+                // After the step, only the contacts rapier saw (touching
+                // neighbours); before it, every pair the broad phase keeps.
+                if self.has_pair(cp.collider1, cp.collider2)
+                    || (self.phase == Phase::Post && !cp.has_any_active_contact())
+                    || (self.phase == Phase::Pre
+                        && !self.may_meet(bodies, colliders, cp.collider1, cp.collider2, dt))
+                    || !input.marks.governs(
+                        config.fixed_partners,
+                        colliders,
+                        bodies,
+                        cp.collider1,
+                        cp.collider2,
+                    )
+                {
+                    continue;
+                }
+                if let Some(i) =
+                    self.add_pair(input, bodies, colliders, cp.collider1, cp.collider2, dt)
+                {
+                    self.predict(bodies, colliders, i, t, dt, false);
+                }
+            }
+        }
+    }
+
+    /// Collider `ch`'s sweep reached collider `other`: if the law governs the
+    /// pair, bring it into the replay and predict it from `from`.
+    #[allow(clippy::too_many_arguments)]
+    fn meet(
+        &mut self,
+        input: &ReplayInput,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        ch: ColliderHandle,
+        other: ColliderHandle,
+        from: Real,
+        dt: Real,
+    ) {
+        if other == ch
+            || self.has_pair(ch, other)
+            || !input
+                .marks
+                .governs(input.config.fixed_partners, colliders, bodies, ch, other)
+        {
+            return;
+        }
+        if let Some(i) = self.add_pair(input, bodies, colliders, ch, other, dt) {
+            self.predict(bodies, colliders, i, from, dt, from == 0.0);
+        }
+    }
+
+    /// Before rapier's step: the impacts the bodies are about to have this
+    /// step, resolved in time order on the velocities they have now. The
+    /// pairs are those the broad phase finds along the path of fast bodies
+    /// (more than half their size per step, which rapier could miss) and,
+    /// with `narrow` (`Impulse` mode), every governed pair rapier's narrow
+    /// phase holds for a moving marked collider. Only velocities change;
+    /// rapier's solver then integrates them with every contact in place (the
+    /// law's pairs separate, so their contacts carry no impulse unless
+    /// something pushes the pair together again).
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn run_pre(
+        &mut self,
+        input: &ReplayInput,
+        out: &mut ReplayOutput,
+        bodies: &mut RigidBodySet,
+        colliders: &ColliderSet,
+        narrow_phase: &NarrowPhase,
+        broad_phase: &BroadPhaseBvh,
+        mode: Mode,
+    ) {
+        let StepFrame {
+            gravity,
+            dt,
+            rest_speed,
+            prediction,
+        } = input.frame;
+        // Impulse mode takes every governed pair of the narrow phase;
+        // restitution only the fast bodies' sweeps.
+        let narrow = mode == Mode::Impulse;
+        if !self.begin(Phase::Pre, gravity, dt, rest_speed) {
+            return;
+        }
+        // Impulse mode sweeps what the narrow phase cannot have seen (see
+        // `run`); restitution only what could tunnel.
+        self.sweep_reach = if narrow {
+            0.5 * prediction
+        } else {
+            Real::INFINITY
+        };
+        let config = *input.config;
+        let seeded = if narrow { input.flagged.len() } else { 0 };
+        for j in 0..seeded {
+            let ch = input.flagged[j];
+            for cp in narrow_phase.contact_pairs_with(ch) {
+                if !input.marks.governs(
+                    config.fixed_partners,
+                    colliders,
+                    bodies,
+                    cp.collider1,
+                    cp.collider2,
+                ) || !self.may_meet(bodies, colliders, cp.collider1, cp.collider2, dt)
+                {
+                    continue;
+                }
+                if let Some(i) =
+                    self.add_pair(input, bodies, colliders, cp.collider1, cp.collider2, dt)
+                {
+                    self.predict(bodies, colliders, i, 0.0, dt, true);
+                }
+            }
+        }
+        self.sweep_fast_bodies(input, bodies, colliders, broad_phase, dt);
+        self.resolve(input, out, bodies, colliders, narrow_phase, broad_phase, dt);
+        // In node order, as a walk over every node would take them.
+        self.hit.sort_unstable();
+        for &n in &self.hit {
+            let node = &self.nodes[n];
+            let Key::Body(h) = node.key else { continue };
+            if let Some(rb) = bodies.get_mut(h)
+                && node.u.is_finite()
+            {
+                rb.set_linvel(node.u, true);
+                out.woken.push(h);
+            }
+        }
+    }
+
+    /// Start a run: empty scratch, the phase and the step's constants;
+    /// whether the step can be replayed at all (`dt > 0`).
+    fn begin(&mut self, phase: Phase, gravity: Vector, dt: Real, rest_speed: Real) -> bool {
+        self.clear();
+        self.phase = phase;
+        self.gravity_dt = gravity * dt;
+        self.rest_speed = rest_speed;
+        dt > 0.0
+    }
+
+    /// The bodies whose velocity the last run changed.
+    pub(crate) fn hit_bodies(&self) -> impl Iterator<Item = RigidBodyHandle> + '_ {
+        self.hit.iter().filter_map(|&n| match self.nodes[n].key {
+            Key::Body(h) => Some(h),
+            Key::Collider(_) => None,
+        })
+    }
+
+    /// Resolve this step's impacts in time order and write the results back.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn run(
+        &mut self,
+        input: &ReplayInput,
+        out: &mut ReplayOutput,
+        bodies: &mut RigidBodySet,
+        colliders: &ColliderSet,
+        narrow_phase: &NarrowPhase,
+        broad_phase: &BroadPhaseBvh,
+    ) {
+        let StepFrame {
+            gravity,
+            dt,
+            rest_speed,
+            prediction,
+        } = input.frame;
+        if !self.begin(Phase::Post, gravity, dt, rest_speed) {
+            return;
+        }
+        // rapier's contacts (hence the candidates) reach `prediction` beyond
+        // the start-of-step shapes. Two bodies each moving at most half of
+        // that close at most all of it, so they were seen; a body moving
+        // more may reach a partner unseen (a gas ball at 3 m/s moves 0.05
+        // per step at 60 Hz, the prediction is 0.02), and is swept.
+        self.sweep_reach = 0.5 * prediction;
+        for j in 0..input.candidates.len() {
+            let c: Candidate = input.candidates[j];
+            if let Some(i) = self.add_pair(input, bodies, colliders, c.collider1, c.collider2, dt) {
+                self.predict(bodies, colliders, i, 0.0, dt, true);
+            }
+        }
+        self.sweep_fast_bodies(input, bodies, colliders, broad_phase, dt);
+        self.resolve(input, out, bodies, colliders, narrow_phase, broad_phase, dt);
+        // Write back the bodies whose path the law bent, in node order.
+        self.hit.sort_unstable();
+        for &n in &self.hit {
+            let node = &self.nodes[n];
+            let Key::Body(h) = node.key else { continue };
+            let Some(rb) = bodies.get_mut(h) else {
+                continue;
+            };
+            let x = node.at(dt);
+            let v = node.u;
+            if x.is_finite() && v.is_finite() {
+                rb.set_translation(x, true);
+                rb.set_linvel(v, true);
+                out.woken.push(h);
+            }
+        }
+    }
+
+    /// The impacts on the heap, in time order, each bending the paths of
+    /// its two bodies and bringing their neighbours in.
+    #[allow(clippy::too_many_arguments)]
+    fn resolve(
+        &mut self,
+        input: &ReplayInput,
+        out: &mut ReplayOutput,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        narrow_phase: &NarrowPhase,
+        broad_phase: &BroadPhaseBvh,
+        dt: Real,
+    ) {
+        let max_events = input.config.max_events_per_step;
+        let mut events = 0usize;
+        // The instant of the impacts whose bodies are in `bent`.
+        let mut instant = Real::NEG_INFINITY;
+        loop {
+            // A pile resolves most of its impacts at one instant, pair by
+            // pair through the overlapping cluster, each body hit several
+            // times: its path is swept only once the instant is over, along
+            // the last velocity it got then (the paths of the impacts in
+            // between last no time), and its pairs with balls apart at
+            // that instant are predicted then (`defer_if_apart`). The
+            // sweep and those predictions may bring in pairs meeting at
+            // that instant still: the loop takes them before any later.
+            if !(self.bent.is_empty() && self.apart.is_empty())
+                && self.queue.peek().is_none_or(|t| t.max(0.0) > instant)
+            {
+                let apart = std::mem::take(&mut self.apart);
+                for &j in &apart {
+                    self.pairs[j as usize].apart_at = Real::NEG_INFINITY;
+                    self.predict(bodies, colliders, j as usize, instant, dt, false);
+                }
+                self.apart = apart;
+                self.apart.clear();
+                let bent = std::mem::take(&mut self.bent);
+                for &(n, collider, ball) in &bent {
+                    self.nodes[n].sweep_due = None;
+                    self.sweep(
+                        input,
+                        bodies,
+                        colliders,
+                        broad_phase,
+                        collider,
+                        n,
+                        ball,
+                        instant,
+                        dt,
+                    );
+                }
+                self.bent = bent;
+                self.bent.clear();
+                continue;
+            }
+            let Some((t, i)) = self.queue.pop() else {
+                break;
+            };
+            let pair = self.pairs[i];
+            if pair.apart_at == t {
+                // Queued before an impact at this instant bent either body:
+                // predicted again once the instant is over.
+                continue;
+            }
+            if events >= max_events {
+                out.log.cap_hit();
+                log::warn!(
+                    "kimpact: more than {max_events} impacts in one step; the rest is left to rapier"
+                );
+                break;
+            }
+            let mut mass = |n: usize, c: ColliderHandle| -> Mass<Real> {
+                let node = &mut self.nodes[n];
+                if !node.dynamic {
+                    return Mass::Infinite;
+                }
+                if node.mass.is_nan() {
+                    let parent = colliders.get(c).and_then(|co| co.parent());
+                    match law_body(bodies, parent).mass {
+                        Mass::Finite(m) => node.mass = m,
+                        // Not dynamic after all: as before, not cached.
+                        Mass::Infinite => return Mass::Infinite,
+                    }
+                }
+                Mass::Finite(node.mass)
+            };
+            let ma = mass(pair.a, pair.c1);
+            let mb = mass(pair.b, pair.c2);
+            let (na, nb) = (self.nodes[pair.a], self.nodes[pair.b]);
+            let la = LawBody {
+                mass: ma,
+                velocity: na.law_velocity(self.phase, t, dt),
+            };
+            let lb = LawBody {
+                mass: mb,
+                velocity: nb.law_velocity(self.phase, t, dt),
+            };
+            let candidate = Candidate {
+                collider1: pair.c1,
+                collider2: pair.c2,
+                normal: pair.normal,
+                point: pair.point,
+                dist: 0.0,
+                start1: la,
+                start2: lb,
+            };
+            let (Ok(ba), Ok(bb)) = (la.checked(), lb.checked()) else {
+                out.log.skip(&candidate);
+                continue;
+            };
+            // The pair approaches faster than the rest speed: `predict`
+            // queued it only then, and neither velocity has changed since.
+            let law = input.marks.law(input.law, pair.c1, pair.c2);
+            let Some(impact) = law.resolve_unit(&ba, &bb, &to_law(pair.normal)) else {
+                continue;
+            };
+            events += 1;
+            for (n, dv) in [(pair.a, impact.delta_v_a), (pair.b, impact.delta_v_b)] {
+                let node = &mut self.nodes[n];
+                if !node.dynamic {
+                    continue;
+                }
+                // After the step the path bends at the impact. Before it,
+                // rapier will move the body with its new velocity from the
+                // start of the step: predict along that line.
+                if self.phase == Phase::Post {
+                    node.p = node.at(t);
+                    node.t_ref = t;
+                }
+                let dv = from_law(&dv);
+                node.v += dv;
+                node.u += dv;
+                if !node.hit {
+                    node.hit = true;
+                    self.hit.push(n);
+                }
+            }
+            out.log.push(&candidate, t, pair.point, &impact, false);
+            // Chains: neighbours of both bodies, then fresh predictions for
+            // every pair of the two bodies from now on.
+            let from = t.max(0.0);
+            instant = from;
+            for n in [pair.a, pair.b] {
+                if self.nodes[n].dynamic {
+                    self.expand(input, bodies, colliders, narrow_phase, n, from, dt);
+                    self.bring_deferred(input, bodies, colliders, n, from, dt);
+                    // The new path may reach what neither the narrow phase
+                    // nor the sweep along the old one saw: swept once this
+                    // instant is over.
+                    let side = pair.side(n);
+                    let collider = [pair.c1, pair.c2][side];
+                    if self.nodes[n].sweep_due != Some(collider) {
+                        self.nodes[n].sweep_due = Some(collider);
+                        self.bent.push((n, collider, pair.balls.map(|b| b[side])));
+                    }
+                }
+            }
+            let defer = self.phase == Phase::Post && t == from;
+            for n in [pair.a, pair.b] {
+                // The pairs listed now (a prediction adds none, but the
+                // list is walked up to its present end regardless); the
+                // impact's own pair once, in `a`'s list.
+                let [mut j, last] = self.ends[n];
+                while j != NO_PAIR {
+                    let next = self.next_pair(j as usize, n);
+                    if (n == pair.a || j as usize != i)
+                        && !(defer && self.defer_if_apart(j as usize, from))
+                    {
+                        self.predict(bodies, colliders, j as usize, from, dt, false);
+                    }
+                    if j == last {
+                        break;
+                    }
+                    j = next;
+                }
+            }
+        }
+    }
+}

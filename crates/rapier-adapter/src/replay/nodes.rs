@@ -1,0 +1,343 @@
+//! The replay's nodes (a body, or a collider without one) and pairs: made
+//! once per run, found by collider and body index.
+
+use super::*;
+
+impl Replay {
+    pub(super) fn clear(&mut self) {
+        self.nodes.clear();
+        self.ends.clear();
+        self.hit.clear();
+        self.stamp = self.stamp.wrapping_add(1);
+        if self.stamp == 0 {
+            // Wrapped: forget every old stamp.
+            self.body_slots.clear();
+            self.collider_slots.clear();
+            self.sweeping.clear();
+            self.stamp = 1;
+        }
+        self.pairs.clear();
+        self.bent.clear();
+        self.apart.clear();
+        self.deferred_range.clear();
+        self.queue.clear();
+        self.leaves.clear();
+    }
+
+    /// The node of collider `collider` (whose parent is `parent`): its
+    /// body's, or its own for a collider without a body; made if the run
+    /// has none yet.
+    pub(super) fn node(
+        &mut self,
+        input: &ReplayInput,
+        bodies: &RigidBodySet,
+        collider: ColliderHandle,
+        parent: Option<RigidBodyHandle>,
+        dt: Real,
+    ) -> usize {
+        if let Some(n) = self.collider_node(collider) {
+            return n;
+        }
+        // A body's node may have been made for another of its colliders.
+        let n = match parent {
+            Some(h) => match self.body_node(Some(h)) {
+                Some(n) => n,
+                None => self.new_node(input, bodies, Key::Body(h), dt),
+            },
+            None => self.new_node(input, bodies, Key::Collider(collider), dt),
+        };
+        let index = collider.into_raw_parts().0;
+        Slot::set(&mut self.collider_slots, index, self.stamp, n);
+        n
+    }
+
+    /// The node of collider `c` in this run, if it has one.
+    pub(super) fn collider_node(&self, c: ColliderHandle) -> Option<usize> {
+        let slot = self.collider_slots.get(c.into_raw_parts().0 as usize)?;
+        (slot.stamp == self.stamp).then_some(slot.node as usize)
+    }
+
+    /// Colliders `c1` and `c2` are a pair of the replay already (in either
+    /// order). Reads only the replay's own arrays: most colliders a sweep
+    /// meets in a pile are paired already (19 of 20 in the 10,000-ball 2D
+    /// pit), and reading them from rapier is a cache miss each.
+    pub(super) fn has_pair(&self, c1: ColliderHandle, c2: ColliderHandle) -> bool {
+        let (Some(a), Some(_)) = (self.collider_node(c1), self.collider_node(c2)) else {
+            return false;
+        };
+        self.pairs_of(a).any(|i| {
+            let p = &self.pairs[i];
+            (p.c1 == c1 && p.c2 == c2) || (p.c1 == c2 && p.c2 == c1)
+        })
+    }
+
+    /// A new node for `key` (a body, or a collider without one).
+    pub(super) fn new_node(
+        &mut self,
+        input: &ReplayInput,
+        bodies: &RigidBodySet,
+        key: Key,
+        dt: Real,
+    ) -> usize {
+        let parent = match key {
+            Key::Body(h) => Some(h),
+            Key::Collider(_) => None,
+        };
+        let rb = parent.and_then(|h| bodies.get(h));
+        let node = match rb {
+            Some(rb) if rb.is_dynamic() && self.phase == Phase::Pre => {
+                let x = rb.translation();
+                let u = rb.linvel();
+                Node {
+                    key,
+                    dynamic: true,
+                    x1: x,
+                    p: x,
+                    v: u + self.gravity_dt * rb.gravity_scale(),
+                    u,
+                    t_ref: 0.0,
+                    g_dt: self.gravity_dt * rb.gravity_scale(),
+                    expanded: false,
+                    hit: false,
+                    swept: None,
+                    sweep_due: None,
+                    mass: Real::NAN,
+                }
+            }
+            Some(rb) if rb.is_dynamic() => {
+                let x1 = rb.translation();
+                let handle = parent.expect("a body has a handle");
+                let x0 = input.starts.of(handle).unwrap_or(x1);
+                // rapier's velocity when the body moved with it (free flight:
+                // exact, where (x₁ − x₀)/dt would round), the chord otherwise;
+                // but not the chord of a motion rapier's CCD cut short (a fast
+                // body sweeps fixed colliders, a CCD-enabled one everything):
+                // that stop is at rapier's time of impact, with rapier's
+                // response, which the law replaces (the chord of a ball a CCD
+                // pass stopped at a wall is slower than the ball, and the law
+                // would meet the wall late).
+                let v1 = rb.linvel();
+                let moved = x1 - x0;
+                let slack = 8.0 * Real::EPSILON * (x1.abs() + x0.abs()).max_element();
+                let free = (moved - v1 * dt).abs().max_element() <= slack;
+                let v_bar = if free || rb.is_ccd_active() {
+                    v1
+                } else {
+                    moved / dt
+                };
+                Node {
+                    key,
+                    dynamic: true,
+                    x1,
+                    p: x0,
+                    v: v_bar,
+                    u: v1,
+                    t_ref: 0.0,
+                    g_dt: self.gravity_dt * rb.gravity_scale(),
+                    expanded: false,
+                    hit: false,
+                    swept: None,
+                    sweep_due: None,
+                    mass: Real::NAN,
+                }
+            }
+            Some(rb) => {
+                let x1 = rb.translation();
+                let v = rb.linvel();
+                Node {
+                    key,
+                    dynamic: false,
+                    x1,
+                    p: x1,
+                    v,
+                    u: v,
+                    // Where the body is now: the end of the step after
+                    // rapier's step, its start before it.
+                    t_ref: if self.phase == Phase::Pre { 0.0 } else { dt },
+                    g_dt: Vector::ZERO,
+                    expanded: true,
+                    hit: false,
+                    swept: None,
+                    sweep_due: None,
+                    mass: Real::NAN,
+                }
+            }
+            None => Node {
+                key,
+                dynamic: false,
+                x1: Vector::ZERO,
+                p: Vector::ZERO,
+                v: Vector::ZERO,
+                u: Vector::ZERO,
+                t_ref: dt,
+                g_dt: Vector::ZERO,
+                expanded: true,
+                hit: false,
+                swept: None,
+                sweep_due: None,
+                mass: Real::NAN,
+            },
+        };
+        let i = self.nodes.len();
+        self.nodes.push(node);
+        self.ends.push([NO_PAIR; 2]);
+        if let Key::Body(h) = key {
+            Slot::set(&mut self.body_slots, h.into_raw_parts().0, self.stamp, i);
+        }
+        i
+    }
+
+    pub(super) fn add_pair(
+        &mut self,
+        input: &ReplayInput,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        c1: ColliderHandle,
+        c2: ColliderHandle,
+        dt: Real,
+    ) -> Option<usize> {
+        // Already in (a node has a handful of pairs: a scan beats a set).
+        if self.has_pair(c1, c2) {
+            return None;
+        }
+        let (co1, co2) = (colliders.get(c1)?, colliders.get(c2)?);
+        let (p1, p2) = (co1.parent(), co2.parent());
+        let a = self.node(input, bodies, c1, p1, dt);
+        let b = self.node(input, bodies, c2, p2, dt);
+        let dynamic = self.nodes[a].dynamic || self.nodes[b].dynamic;
+        if a == b
+            || !input
+                .filter
+                .admits(bodies, colliders, c1, co1, c2, co2, dynamic)
+        {
+            return None;
+        }
+        let balls = match (
+            self.ball(bodies, colliders, a, c1),
+            self.ball(bodies, colliders, b, c2),
+        ) {
+            (Some(b1), Some(b2)) => Some([b1, b2]),
+            _ => None,
+        };
+        let i = self.pairs.len();
+        self.pairs.push(Pair {
+            a,
+            b,
+            c1,
+            c2,
+            balls,
+            normal: Vector::ZERO,
+            point: Vector::ZERO,
+            apart_at: Real::NEG_INFINITY,
+            next: [NO_PAIR; 2],
+        });
+        for n in [a, b] {
+            match self.ends[n] {
+                [NO_PAIR, _] => self.ends[n] = [i as u32; 2],
+                [_, last] => {
+                    let last = last as usize;
+                    let side = self.pairs[last].side(n);
+                    self.pairs[last].next[side] = i as u32;
+                    self.ends[n][1] = i as u32;
+                }
+            }
+        }
+        Some(i)
+    }
+
+    /// The pair after pair `i` in node `n`'s list (`n` is one of its two).
+    pub(super) fn next_pair(&self, i: usize, n: usize) -> u32 {
+        let p = &self.pairs[i];
+        p.next[p.side(n)]
+    }
+
+    /// Node `n`'s pairs, in the order they were added.
+    pub(super) fn pairs_of(&self, n: usize) -> impl Iterator<Item = usize> + '_ {
+        let mut i = self.ends[n][0];
+        std::iter::from_fn(move || {
+            let this = (i != NO_PAIR).then_some(i as usize)?;
+            i = self.next_pair(this, n);
+            Some(this)
+        })
+    }
+
+    /// Before the step, a cheap test that colliders `c1` and `c2` cannot
+    /// have an impact this step: their velocities differ by no more than the
+    /// rest speed (the law would leave them to rapier), or their bounding
+    /// spheres stay apart on the bodies' current lines. A node whose velocity
+    /// the law changes later has its pairs tested again then.
+    pub(super) fn may_meet(
+        &self,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        c1: ColliderHandle,
+        c2: ColliderHandle,
+        dt: Real,
+    ) -> bool {
+        // (centre, path velocity, the law's velocity, bounding radius)
+        let sphere = |c: ColliderHandle| -> Option<(Vector, Vector, Vector, Real)> {
+            let co = colliders.get(c)?;
+            let local = co.shape().compute_local_bounding_sphere();
+            let r = local.center().length() + local.radius();
+            match co.parent().and_then(|h| bodies.get(h)) {
+                Some(rb) => {
+                    // A node's velocities are the ones the law changed.
+                    let (v, u) = match self.body_node(co.parent()) {
+                        Some(n) => (self.nodes[n].v, self.nodes[n].u),
+                        None => (path_velocity(rb, self.gravity_dt), rb.linvel()),
+                    };
+                    let offset = co
+                        .position_wrt_parent()
+                        .map_or(0.0, |p| p.translation.length());
+                    Some((rb.translation(), v, u, r + offset))
+                }
+                None => Some((co.position().translation, Vector::ZERO, Vector::ZERO, r)),
+            }
+        };
+        let (Some((x1, v1, u1, r1)), Some((x2, v2, u2, r2))) = (sphere(c1), sphere(c2)) else {
+            return true;
+        };
+        // Anything not finite (NaN) is left to the exact test.
+        if (u2 - u1).length().partial_cmp(&self.rest_speed) != Some(Ordering::Greater) {
+            return (u2 - u1).length().is_nan();
+        }
+        let gap = (x2 - x1).length() - r1 - r2;
+        let reach = (v2 - v1).length() * dt * (1.0 + 2.0 * PRE_HORIZON);
+        gap.partial_cmp(&reach) != Some(Ordering::Greater)
+    }
+
+    /// The node of body `h` in this run, if it has one.
+    pub(super) fn body_node(&self, h: Option<RigidBodyHandle>) -> Option<usize> {
+        let h = h?;
+        let slot = self.body_slots.get(h.into_raw_parts().0 as usize)?;
+        (slot.stamp == self.stamp).then_some(slot.node as usize)
+    }
+
+    /// The pose of collider `c` of node `n` at time `t`. Taken from the
+    /// body's pose (rapier syncs collider poses only inside its step, so
+    /// before the step a body the user moved has a stale collider pose).
+    pub(super) fn pose(
+        &self,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        n: usize,
+        c: ColliderHandle,
+        t: Real,
+    ) -> Option<Pose> {
+        Some(self.nodes[n].moved(rest_pose(bodies, colliders.get(c)?), t))
+    }
+
+    /// Collider `c` of node `n`, if it is a ball: its radius and its
+    /// centre's offset from the node's path (see [`Pair::balls`]).
+    pub(super) fn ball(
+        &self,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        n: usize,
+        c: ColliderHandle,
+    ) -> Option<BallOnPath> {
+        let co = colliders.get(c)?;
+        let radius = co.shape().as_ball()?.radius;
+        Some((radius, rest_pose(bodies, co).translation - self.nodes[n].x1))
+    }
+}

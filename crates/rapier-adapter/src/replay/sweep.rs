@@ -1,0 +1,364 @@
+//! Sweeps: the governed colliders a moving body could reach this step,
+//! found along its path through rapier's broad phase (one query at a time,
+//! or in bulk through a grid of the swept boxes).
+
+use super::*;
+
+impl Replay {
+    /// Bodies that move more than their own half-size this step can cross a
+    /// partner without a contact ever being seen (rapier's CCD does not
+    /// sweep dynamic against dynamic): query the broad phase along their
+    /// path over the step and bring every governed collider it meets into
+    /// the replay.
+    ///
+    /// Before the step, the box is grown by twice the body's own step: a
+    /// partner's box in rapier's broad phase is up to a step old, and the
+    /// partner moves during this one (enough for every slower partner; a
+    /// faster one finds the pair from its own sweep).
+    pub(super) fn sweep_fast_bodies(
+        &mut self,
+        input: &ReplayInput,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        broad_phase: &BroadPhaseBvh,
+        dt: Real,
+    ) {
+        let mut sweepers = std::mem::take(&mut self.sweepers);
+        sweepers.clear();
+        for j in 0..input.flagged.len() {
+            let ch = input.flagged[j];
+            let Some(handle) = colliders.get(ch).and_then(|co| co.parent()) else {
+                continue;
+            };
+            if self.phase == Phase::Post && input.starts.of(handle).is_none() {
+                continue;
+            }
+            let n = self.node(input, bodies, ch, Some(handle), dt);
+            if let Some((aabb, ball)) = self.swept_aabb(bodies, colliders, ch, n, 0.0, dt, None) {
+                sweepers.push(Sweeper {
+                    collider: ch,
+                    node: n,
+                    aabb,
+                    ball,
+                });
+                self.nodes[n].swept = Some((ch, aabb));
+            }
+        }
+        let bulk = !self.per_body_sweep
+            && sweepers.len() >= BULK_MIN
+            && sweepers.len() * BULK_SHARE >= colliders.len();
+        if !(bulk && self.sweep_in_bulk(input, bodies, colliders, broad_phase, &sweepers, dt)) {
+            for &Sweeper {
+                collider: ch, aabb, ..
+            } in &sweepers
+            {
+                self.sweep_query(input, bodies, colliders, broad_phase, ch, aabb, 0.0, dt);
+            }
+        }
+        self.sweepers = sweepers;
+    }
+
+    /// The box collider `ch` of node `n` sweeps from `from` to the end of the
+    /// step, if it moves far enough over that time to be swept (more than
+    /// half its size, or more than `sweep_reach`); with it, the collider's
+    /// radius and centre offset if it is a ball (as [`Replay::ball`]).
+    /// `known` is that radius and offset when the caller has them (a pair
+    /// of balls keeps them): then neither the collider nor its body is read.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn swept_aabb(
+        &self,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        ch: ColliderHandle,
+        n: usize,
+        from: Real,
+        dt: Real,
+        known: Option<BallOnPath>,
+    ) -> Option<(Aabb, Option<BallOnPath>)> {
+        let node = &self.nodes[n];
+        let moved = node.v * (dt - from);
+        let far_enough = |half: Real| moved.length() > half.min(self.sweep_reach);
+        let (swept, ball) = match known {
+            Some(ball) => {
+                if !far_enough(ball.0) {
+                    return None;
+                }
+                (node.swept_ball(ball, from, dt), known)
+            }
+            None => {
+                let co = colliders.get(ch)?;
+                let shape = co.shape();
+                let ball = shape.as_ball();
+                let half = match ball {
+                    Some(ball) => ball.radius,
+                    None => {
+                        let aabb = co.compute_aabb();
+                        0.5 * (aabb.maxs - aabb.mins).min_element()
+                    }
+                };
+                if !far_enough(half) {
+                    return None;
+                }
+                let rest = rest_pose(bodies, co);
+                match ball {
+                    Some(ball) => {
+                        let ball = (ball.radius, rest.translation - node.x1);
+                        (node.swept_ball(ball, from, dt), Some(ball))
+                    }
+                    None => {
+                        let at = |t: Real| shape.compute_aabb(&node.moved(rest, t));
+                        (at(from).merged(&at(dt)), None)
+                    }
+                }
+            }
+        };
+        let swept = match self.phase {
+            Phase::Pre => swept.loosened(2.0 * moved.length()),
+            Phase::Post => swept,
+        };
+        // A box that is not finite (a body the runtime guard cuts off)
+        // meets nothing.
+        (swept.mins.is_finite() && swept.maxs.is_finite()).then_some((swept, ball))
+    }
+
+    /// Sweep collider `ch` of node `n` along the node's path from `from` to
+    /// the end of the step, if it moves far enough over that time (more
+    /// than half its size, or more than `sweep_reach`), and bring every
+    /// governed collider the sweep meets into the replay, predicted from
+    /// `from`.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn sweep(
+        &mut self,
+        input: &ReplayInput,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        broad_phase: &BroadPhaseBvh,
+        ch: ColliderHandle,
+        n: usize,
+        ball: Option<BallOnPath>,
+        from: Real,
+        dt: Real,
+    ) {
+        let Some((aabb, _)) = self.swept_aabb(bodies, colliders, ch, n, from, dt, ball) else {
+            return;
+        };
+        if let Some((c, covered)) = self.nodes[n].swept
+            && c == ch
+            && covered.mins.cmple(aabb.mins).all()
+            && aabb.maxs.cmple(covered.maxs).all()
+        {
+            // Every collider this box meets was met by the earlier sweep and
+            // is in the replay already, predicted again after each impact.
+            return;
+        }
+        self.nodes[n].swept = Some((ch, aabb));
+        self.sweep_query(input, bodies, colliders, broad_phase, ch, aabb, from, dt);
+    }
+
+    /// The colliders of rapier's broad phase whose box meets `swept`, as
+    /// rapier's tree query finds them (it can miss one under an inner node
+    /// not yet refitted: see [`Replay::sweep_in_bulk`]), met by collider
+    /// `ch` from time `from`.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn sweep_query(
+        &mut self,
+        input: &ReplayInput,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        broad_phase: &BroadPhaseBvh,
+        ch: ColliderHandle,
+        swept: Aabb,
+        from: Real,
+        dt: Real,
+    ) {
+        let dispatcher = crate::rapier::parry::query::DefaultQueryDispatcher;
+        let query =
+            broad_phase.as_query_pipeline(&dispatcher, bodies, colliders, QueryFilter::default());
+        // In collider order (as the bulk sweep takes them), not the tree's.
+        let mut met = std::mem::take(&mut self.met);
+        met.clear();
+        if !self.per_body_sweep && self.leaves.wanted(query.bvh) {
+            self.leaves.overlaps(&swept, &mut met);
+        } else {
+            met.extend(
+                query
+                    .intersect_aabb_conservative(swept)
+                    .map(|(other, _)| other.into_raw_parts().0),
+            );
+        }
+        met.sort_unstable();
+        for &index in &met {
+            if let Some((_, other)) = colliders.get_unknown_gen(index) {
+                self.meet(input, bodies, colliders, ch, other, from, dt);
+            }
+        }
+        self.met = met;
+    }
+
+    /// The sweep of many colliders at once: the swept boxes go in a uniform
+    /// grid, every box of rapier's broad phase (the leaves its queries test)
+    /// looks up the cells whose boxes may meet it, and every overlap of a
+    /// swept box with a broad-phase box is taken, sweeper by sweeper, each
+    /// in collider order (the order of [`Replay::sweep_query`] too). It finds every pair one
+    /// [`Replay::sweep_query`] each would, and the few such a query misses.
+    /// `false`, having done nothing, if the boxes cannot be gridded (the
+    /// caller then sweeps them one query each). One pass over the
+    /// colliders replaces a tree descent per swept collider (a third of an
+    /// exact step in a gas, where every ball is swept).
+    pub(super) fn sweep_in_bulk(
+        &mut self,
+        input: &ReplayInput,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        broad_phase: &BroadPhaseBvh,
+        sweepers: &[Sweeper],
+        dt: Real,
+    ) -> bool {
+        let dispatcher = crate::rapier::parry::query::DefaultQueryDispatcher;
+        let tree = broad_phase
+            .as_query_pipeline(&dispatcher, bodies, colliders, QueryFilter::default())
+            .bvh;
+        let mut grid = std::mem::take(&mut self.grid);
+        if !grid.build(sweepers.iter().map(|x| x.aabb)) {
+            self.grid = grid;
+            return false;
+        }
+        let mut found = std::mem::take(&mut self.found);
+        found.clear();
+        // Two sweepers can meet only where their swept boxes do: each such
+        // pair is taken once, from the grid alone, by the sweeper numbered
+        // first (the one that would reach it first in the order below).
+        let mut sweeping = std::mem::take(&mut self.sweeping);
+        for sweeper in sweepers {
+            let index = sweeper.collider.into_raw_parts().0 as usize;
+            if sweeping.len() <= index {
+                sweeping.resize(index + 1, 0);
+            }
+            sweeping[index] = self.stamp;
+        }
+        // Before the step a swept box is grown by twice its body's motion
+        // (a partner's box in rapier's tree is up to a step old), so two
+        // grown boxes meet far more often than a pair can: such a pair is
+        // taken, as one query per sweeper would take it, only if either
+        // grown box meets the other collider's box in rapier's tree (a
+        // sweeper whose velocity an impact changes later is swept again
+        // against those boxes).
+        //
+        // After the step, a pair of balls that does not meet on the paths
+        // the bodies have now is deferred: its prediction would be "never",
+        // and it matters only once an impact bends either path (most
+        // pairs of a gas: their boxes meet, their balls do not).
+        let pre = self.phase == Phase::Pre;
+        let mut deferred = std::mem::take(&mut self.deferred);
+        deferred.clear();
+        let nodes = &self.nodes;
+        grid.self_join(|s, t| {
+            let (a, b) = (&sweepers[s as usize], &sweepers[t as usize]);
+            let (ka, kb) = (a.collider.into_raw_parts().0, b.collider.into_raw_parts().0);
+            let meets = |grown: &Aabb, key: u32| {
+                tree.leaf_node(key)
+                    .is_some_and(|leaf| grown.intersects(&leaf.aabb()))
+            };
+            if pre {
+                if meets(&a.aabb, kb) || meets(&b.aabb, ka) {
+                    found.push((s, kb));
+                }
+            } else if let (Some((r1, o1)), Some((r2, o2))) = (a.ball, b.ball) {
+                // The first cast `Replay::predict` would make of the pair.
+                let hit = cast_balls(&nodes[a.node], (r1, o1), &nodes[b.node], (r2, o2), 0.0, dt);
+                if hit.is_some() {
+                    found.push((s, kb));
+                } else {
+                    deferred.push((s, t));
+                }
+            } else {
+                found.push((s, kb));
+            }
+        });
+        if !deferred.is_empty() {
+            self.group_deferred(&deferred, sweepers);
+        }
+        self.deferred = deferred;
+        // Every other leaf of rapier's tree (walls, slow bodies): a leaf's
+        // box looks up the cells whose boxes may meet it. Every leaf, not
+        // only those under inner nodes that meet a swept box: between steps
+        // some inner boxes do not enclose the leaves below them (rapier
+        // refits the ancestors of moved leaves lazily), so a query
+        // descending from the root can miss a collider whose own box meets
+        // the query's (measured: 2 to 11 of 400 to 870 pairs per step in a
+        // falling pile of 300 balls).
+        for_each_leaf(tree, |index, node| {
+            if sweeping.get(index as usize) != Some(&self.stamp) {
+                grid.overlaps(&node.aabb(), |s| found.push((s, index)));
+            }
+        });
+        self.grid = grid;
+        self.sweeping = sweeping;
+        // Sweeper by sweeper, each in collider order, as one query each
+        // would take them.
+        found.sort_unstable();
+        for &(s, index) in &found {
+            let Some((_, other)) = colliders.get_unknown_gen(index) else {
+                continue;
+            };
+            let ch = sweepers[s as usize].collider;
+            self.meet(input, bodies, colliders, ch, other, 0.0, dt);
+        }
+        self.found = found;
+        true
+    }
+
+    /// Group the deferred pairs by node (`deferred_range`, `deferred_by`).
+    pub(super) fn group_deferred(&mut self, deferred: &[(u32, u32)], sweepers: &[Sweeper]) {
+        let n = self.nodes.len();
+        self.deferred_range.clear();
+        self.deferred_range.resize(n, (0, 0));
+        let ends = |&(s, t): &(u32, u32)| [sweepers[s as usize].node, sweepers[t as usize].node];
+        for pair in deferred {
+            for node in ends(pair) {
+                self.deferred_range[node].1 += 1;
+            }
+        }
+        let mut sum = 0;
+        for range in &mut self.deferred_range {
+            let count = range.1;
+            *range = (sum, sum);
+            sum += count;
+        }
+        self.deferred_by.clear();
+        self.deferred_by.resize(sum as usize, 0);
+        for (i, pair) in deferred.iter().enumerate() {
+            for node in ends(pair) {
+                let range = &mut self.deferred_range[node];
+                self.deferred_by[range.1 as usize] = i as u32;
+                range.1 += 1;
+            }
+        }
+    }
+
+    /// Node `n`'s path is about to bend: bring its deferred pairs into the
+    /// replay (once), to be predicted with the rest of its pairs.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn bring_deferred(
+        &mut self,
+        input: &ReplayInput,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        n: usize,
+        from: Real,
+        dt: Real,
+    ) {
+        let Some(&(start, end)) = self.deferred_range.get(n) else {
+            return;
+        };
+        self.deferred_range[n] = (start, start);
+        for j in start..end {
+            let (s, t) = self.deferred[self.deferred_by[j as usize] as usize];
+            let (c1, c2) = (
+                self.sweepers[s as usize].collider,
+                self.sweepers[t as usize].collider,
+            );
+            self.meet(input, bodies, colliders, c1, c2, from, dt);
+        }
+    }
+}

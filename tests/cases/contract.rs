@@ -1,0 +1,320 @@
+// The public API's contract, written once for 2D/3D and f32/f64 (included by
+// tests/adapter.rs): the stages, handles, checked settings, sleeping.
+
+/// A frictionless ball of mass `mass` with rapier's default activation
+/// (it may fall asleep), marked.
+fn sleepy_ball(
+    w: &mut TestWorld,
+    position: Vector,
+    velocity: Vector,
+    radius: Real,
+    mass: Real,
+) -> RigidBodyHandle {
+    let body = RigidBodyBuilder::dynamic()
+        .translation(position)
+        .linvel(velocity);
+    let collider = ColliderBuilder::ball(radius)
+        .mass(mass)
+        .friction(0.0)
+        .restitution(1.0);
+    let (b, c) = w.world.insert(body, collider);
+    w.kimpact.mark(&w.world.colliders, c).unwrap();
+    b
+}
+
+/// A small scene with every kind of work: a closed box, balls of three
+/// masses at mixed speeds, gravity, some balls starting in contact.
+fn stage_scene(mode: Mode) -> (TestWorld, Vec<RigidBodyHandle>) {
+    let mut w = TestWorld::new(mode, 0.05, Vector::Y * -9.81);
+    w.closed_box(6.0, 0.5);
+    let mut balls = Vec::new();
+    for i in 0..40 {
+        let mut p = Vector::ZERO;
+        let mut v = Vector::ZERO;
+        for a in 0..DIM {
+            p[a] = -5.0 + ((i * (3 + a) + a) % 10) as Real * 1.05;
+            v[a] = (((i * 7 + a * 5) % 11) as Real - 5.0) * 0.8;
+        }
+        let mass = [0.5, 1.0, 2.0][i % 3];
+        balls.push(w.ball(p, v, 0.5, mass).0);
+    }
+    (w, balls)
+}
+
+/// Step `w` through the three public stages around rapier's own step.
+fn step_by_stages(w: &mut TestWorld) {
+    let world = &mut w.world;
+    w.kimpact.before_step(
+        world.gravity,
+        &world.integration_parameters,
+        &world.islands,
+        &world.broad_phase,
+        &world.narrow_phase,
+        &mut world.bodies,
+        &mut world.colliders,
+        &world.impulse_joints,
+        &world.multibody_joints,
+        &(),
+    );
+    world.physics_pipeline.step(
+        world.gravity,
+        &world.integration_parameters,
+        &mut world.islands,
+        &mut world.broad_phase,
+        &mut world.narrow_phase,
+        &mut world.bodies,
+        &mut world.colliders,
+        &mut world.impulse_joints,
+        &mut world.multibody_joints,
+        &mut world.soft_bodies,
+        &mut world.ccd_solver,
+        &w.kimpact.hooks(&()),
+        &(),
+    );
+    w.kimpact
+        .after_step(
+            &world.narrow_phase,
+            &world.broad_phase,
+            &mut world.bodies,
+            &world.colliders,
+            &world.impulse_joints,
+            &world.multibody_joints,
+            &(),
+        )
+        .unwrap();
+}
+
+#[test]
+fn the_stages_give_the_same_bodies_as_step_bit_for_bit() {
+    for mode in Mode::ALL {
+        let (mut a, balls) = stage_scene(mode);
+        let (mut b, _) = stage_scene(mode);
+        for _ in 0..150 {
+            a.step();
+            step_by_stages(&mut b);
+            assert_eq!(a.kimpact.events(), b.kimpact.events(), "{mode}");
+        }
+        assert_eq!(a.bits(&balls), b.bits(&balls), "{mode}");
+        assert_eq!(a.kimpact.stats(), b.kimpact.stats(), "{mode}");
+        if mode != Mode::Native {
+            assert!(a.kimpact.stats().impacts > 0, "{mode}: the scene has impacts");
+        }
+    }
+}
+
+#[test]
+fn after_step_without_before_step_is_an_error_and_changes_nothing() {
+    let (mut w, balls) = stage_scene(Mode::Exact);
+    w.step();
+    let before = w.bits(&balls);
+    let world = &mut w.world;
+    let result = w.kimpact.after_step(
+        &world.narrow_phase,
+        &world.broad_phase,
+        &mut world.bodies,
+        &world.colliders,
+        &world.impulse_joints,
+        &world.multibody_joints,
+        &(),
+    );
+    assert_eq!(result, Err(k::StageError::NotPrepared));
+    assert_eq!(w.bits(&balls), before);
+}
+
+/// Two balls of equal mass with restitution 0 (rapier alone makes their
+/// head-on impact plastic: 0.5/0.5), the first marked through `mark_first`.
+fn plastic_pair(mode: Mode, mark_first: impl FnOnce(&mut TestWorld, ColliderHandle)) -> (Vector, Vector) {
+    let mut w = TestWorld::new(mode, 0.0, Vector::ZERO);
+    let dt = w.world.integration_parameters.dt;
+    let body = |x: Real, v: Real| {
+        RigidBodyBuilder::dynamic()
+            .translation(Vector::X * x)
+            .linvel(Vector::X * v)
+            .can_sleep(false)
+    };
+    let collider = || ColliderBuilder::ball(0.5).mass(1.0).friction(0.0).restitution(0.0);
+    let (a, ca) = w.world.insert(body(0.0, 1.0), collider());
+    let (b, cb) = w.world.insert(body(1.0 + 2.3 * dt, 0.0), collider());
+    mark_first(&mut w, ca);
+    w.kimpact.mark(&w.world.colliders, cb).unwrap();
+    for _ in 0..10 {
+        w.step();
+    }
+    (w.vel(a), w.vel(b))
+}
+
+#[test]
+fn handles_not_in_the_collider_set_change_nothing() {
+    for mode in [Mode::Restitution, Mode::Impulse, Mode::Exact] {
+        // The marked pair meets by the law: 0 / +1.
+        let (va, vb) = plastic_pair(mode, |w, c| w.kimpact.mark(&w.world.colliders, c).unwrap());
+        assert!(rel_err(va, Vector::ZERO) < tol() && rel_err(vb, Vector::X) < tol(), "{mode}: {va:?} {vb:?}");
+
+        let (va, vb) = plastic_pair(mode, |w, c| {
+            // A collider removed, and another put in its slot.
+            let ghost = w.world.colliders.insert(ColliderBuilder::ball(0.1).sensor(true));
+            w.kimpact.mark(&w.world.colliders, ghost).unwrap();
+            w.world.colliders.remove(
+                ghost,
+                &mut w.world.islands,
+                &mut w.world.bodies,
+                &mut w.world.soft_bodies,
+                false,
+            );
+            let reused = w.world.colliders.insert(ColliderBuilder::ball(0.1).sensor(true));
+            assert_eq!(reused.into_raw_parts().0, ghost.into_raw_parts().0, "rapier reuses the slot");
+            w.kimpact.mark(&w.world.colliders, reused).unwrap();
+            // The stale handle: not in the set, so neither marking nor
+            // unmarking it touches the collider now in its slot.
+            assert_eq!(
+                w.kimpact.mark(&w.world.colliders, ghost),
+                Err(k::HandleError::UnknownCollider(ghost))
+            );
+            assert!(!w.kimpact.unmark(ghost));
+            assert!(!w.kimpact.is_marked(ghost));
+            assert!(w.kimpact.is_marked(reused));
+            // The invalid handle, and one far beyond the set: an error, no
+            // allocation in proportion to the index (that would abort).
+            for h in [ColliderHandle::invalid(), ColliderHandle::from_raw_parts(u32::MAX - 1, 0)] {
+                assert_eq!(w.kimpact.mark(&w.world.colliders, h), Err(k::HandleError::UnknownCollider(h)));
+                assert!(!w.kimpact.unmark(h));
+                assert!(!w.kimpact.is_marked(h));
+            }
+            // A stale handle of the pair's own collider's slot.
+            let (index, generation) = c.into_raw_parts();
+            let stale = ColliderHandle::from_raw_parts(index, generation.wrapping_add(1));
+            assert!(w.kimpact.mark(&w.world.colliders, stale).is_err());
+            w.kimpact.mark(&w.world.colliders, c).unwrap();
+            assert!(!w.kimpact.unmark(stale));
+            assert!(w.kimpact.is_marked(c));
+        });
+        assert!(rel_err(va, Vector::ZERO) < tol() && rel_err(vb, Vector::X) < tol(), "{mode}: {va:?} {vb:?}");
+    }
+}
+
+#[test]
+fn invalid_settings_are_rejected_and_the_old_ones_kept() {
+    use k::{Config, ConfigError, Kimpact};
+    for bad in [Real::NAN, Real::INFINITY, -1.0] {
+        let config = Config {
+            rest_speed: Some(bad),
+            ..Config::default()
+        };
+        assert!(matches!(
+            Kimpact::with_config(Law::elastic(), Mode::Exact, config),
+            Err(ConfigError::RestSpeed(_))
+        ));
+        let mut kimpact = Kimpact::new(Law::elastic(), Mode::Exact);
+        assert!(matches!(kimpact.set_config(config), Err(ConfigError::RestSpeed(_))));
+        assert_eq!(*kimpact.config(), Config::default());
+        let message = ConfigError::RestSpeed(bad).to_string();
+        assert!(message.contains("rest_speed"), "{message}");
+    }
+    let zero = Config {
+        max_events_per_step: 0,
+        ..Config::default()
+    };
+    assert_eq!(
+        Kimpact::with_config(Law::elastic(), Mode::Exact, zero).err(),
+        Some(ConfigError::MaxEventsPerStep)
+    );
+    let mut kimpact = Kimpact::new(Law::elastic(), Mode::Exact);
+    let fine = Config {
+        rest_speed: Some(0.0),
+        max_events_per_step: 1,
+        ..Config::default()
+    };
+    kimpact.set_config(fine).unwrap();
+    assert_eq!(kimpact.set_config(zero), Err(ConfigError::MaxEventsPerStep));
+    assert_eq!(*kimpact.config(), fine);
+}
+
+#[test]
+fn a_moving_marked_ball_never_falls_asleep() {
+    // rapier's default activation: a body slower than 0.1 m/s for 2 s falls
+    // asleep and loses its velocity. No gravity: the rest speed is zero.
+    for mode in [Mode::Restitution, Mode::Impulse, Mode::Exact] {
+        let mut w = TestWorld::new(mode, 0.0, Vector::ZERO);
+        let heavy = sleepy_ball(&mut w, Vector::ZERO, Vector::X * 1e-3, 0.5, 1e6);
+        let light = sleepy_ball(&mut w, Vector::X * 3.0, Vector::X * -1.0, 0.1, 1e-6);
+        let momentum = |w: &TestWorld| {
+            w.world.bodies[heavy].linvel() * 1e6 + w.world.bodies[light].linvel() * 1e-6
+        };
+        let p0 = momentum(&w);
+        for _ in 0..300 {
+            w.step();
+        }
+        assert!(!w.world.bodies[heavy].is_sleeping(), "{mode}");
+        assert!(rel_err(momentum(&w), p0) < tol(), "{mode}: {:?} vs {p0:?}", momentum(&w));
+        assert!(w.kimpact.stats().impacts >= 1, "{mode}: the light ball bounced");
+    }
+}
+
+#[test]
+fn a_pile_at_rest_still_sleeps() {
+    for mode in Mode::ALL {
+        let mut w = TestWorld::new(mode, 0.1, Vector::Y * -9.81);
+        let floor = w.world.insert_body(RigidBodyBuilder::fixed());
+        let mut he = Vector::splat(5.0);
+        he[1] = 0.5;
+        w.world
+            .insert_collider(k::math::cuboid(he).translation(Vector::Y * -0.5), Some(floor));
+        let mut balls = Vec::new();
+        for i in 0..3 {
+            let p = Vector::X * (i as Real * 1.2) + Vector::Y * 0.6;
+            balls.push(sleepy_ball(&mut w, p, Vector::ZERO, 0.5, 1.0));
+        }
+        for _ in 0..400 {
+            w.step();
+        }
+        for &b in &balls {
+            assert!(w.world.bodies[b].is_sleeping(), "{mode}: a resting ball sleeps");
+        }
+    }
+}
+
+/// An elastic gas in a closed box with rapier's default activation: speeds
+/// from 0.02 m/s (below rapier's sleep threshold) to 3 m/s; the energy
+/// change after 600 steps and whether any ball fell asleep.
+fn sleepy_gas(keep_moving_awake: bool) -> (f64, bool, u64) {
+    let mut w = TestWorld::new(Mode::Exact, 0.0, Vector::ZERO);
+    let config = k::Config {
+        keep_moving_awake,
+        ..k::Config::default()
+    };
+    w.kimpact.set_config(config).unwrap();
+    w.closed_box(5.0, 0.5);
+    for i in 0..40 {
+        let mut p = Vector::ZERO;
+        let mut v = Vector::ZERO;
+        let mut rest = i;
+        for a in 0..DIM {
+            p[a] = -3.6 + 1.2 * (rest % 7) as Real;
+            rest /= 7;
+            v[a] = ((i * 5 + a * 3) % 7) as Real - 3.0;
+        }
+        let speed = if i % 4 == 0 { 0.02 } else { 0.5 + (i % 6) as Real * 0.5 };
+        let v = if v.length() > 0.0 { v.normalize() * speed } else { Vector::X * speed };
+        let mass = [0.5, 1.0, 2.0][i % 3];
+        sleepy_ball(&mut w, p, v, 0.3, mass);
+    }
+    let e0 = w.kinetic();
+    let mut slept = false;
+    for _ in 0..600 {
+        w.step();
+        slept |= w.world.bodies.iter().any(|(_, b)| b.is_dynamic() && b.is_sleeping());
+    }
+    ((w.kinetic() - e0).abs() / e0, slept, w.kimpact.stats().impacts)
+}
+
+#[test]
+fn an_elastic_gas_keeps_its_energy_with_sleeping_on() {
+    let (rel, slept, impacts) = sleepy_gas(true);
+    assert!(rel < tol(), "energy changed by {rel:e}");
+    assert!(!slept, "a moving ball fell asleep");
+    assert!(impacts > 10);
+    // Without kimpact's keep-awake, rapier puts the slow balls to sleep
+    // and zeroes their velocities.
+    let (rel, slept, _) = sleepy_gas(false);
+    assert!(slept && rel > 1e-6, "{slept} {rel:e}");
+}
