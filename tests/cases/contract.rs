@@ -318,3 +318,129 @@ fn an_elastic_gas_keeps_its_energy_with_sleeping_on() {
     let (rel, slept, _) = sleepy_gas(false);
     assert!(slept && rel > 1e-6, "{slept} {rel:e}");
 }
+
+/// The relative speed after a head-on impact of two equal balls at 1 m/s
+/// whose colliders carry materials `m1`, `m2` (the resolver's law elastic).
+fn head_on_with(mode: Mode, m1: Option<k::Material>, m2: Option<k::Material>) -> f64 {
+    let mut w = TestWorld::new(mode, 0.0, Vector::ZERO);
+    let dt = w.world.integration_parameters.dt;
+    let (a, ca) = w.ball(Vector::ZERO, Vector::X, 0.5, 1.0);
+    let (b, cb) = w.ball(Vector::X * (1.0 + 2.3 * dt), Vector::ZERO, 0.5, 1.0);
+    for (c, m) in [(ca, m1), (cb, m2)] {
+        if let Some(m) = m {
+            w.kimpact.mark_with(&w.world.colliders, c, m).unwrap();
+        }
+    }
+    for _ in 0..10 {
+        w.step();
+    }
+    f64::from((w.vel(b) - w.vel(a)).dot(Vector::X))
+}
+
+/// The law's restitution of a head-on impact of two equal masses.
+fn law_e(dissipation: Real) -> f64 {
+    let law = Law::new(LawParams {
+        dissipation,
+        ..Default::default()
+    })
+    .unwrap();
+    let r = law
+        .restitution(kimpact::Mass::Finite(1.0), kimpact::Mass::Finite(1.0), 1.0, 0.0)
+        .unwrap()
+        .unwrap();
+    f64::from(r.coefficient)
+}
+
+#[test]
+fn a_collider_s_material_sets_its_pairs_law() {
+    for mode in [Mode::Restitution, Mode::Impulse, Mode::Exact] {
+        let rubber = k::Material::new(0.02, 0.1).unwrap();
+        // One side with a material: that material's d̃ (the other has none).
+        let e = head_on_with(mode, Some(rubber), None);
+        assert!((e - law_e(0.02)).abs() < 1e3 * tol(), "{mode}: {e} vs {}", law_e(0.02));
+        assert!(e < 0.99, "{mode}: the material dissipates ({e})");
+        // No material: the resolver's elastic law.
+        let e = head_on_with(mode, None, None);
+        assert!((e - 1.0).abs() < 1e3 * tol(), "{mode}: {e}");
+    }
+}
+
+#[test]
+fn materials_combine_by_rapier_s_rule() {
+    use k::rapier::prelude::CoefficientCombineRule as Rule;
+    let mut w = TestWorld::new(Mode::Exact, 0.0, Vector::ZERO);
+    let (_, a) = w.ball(Vector::ZERO, Vector::X, 0.5, 1.0);
+    let (_, b) = w.ball(Vector::X * 3.0, Vector::ZERO, 0.5, 1.0);
+    let soft = k::Material::new(0.02, 0.1).unwrap();
+    let hard = k::Material::new(0.04, 0.3).unwrap();
+    w.kimpact.set_material(a, Some(soft)).unwrap();
+    w.kimpact.set_material(b, Some(hard)).unwrap();
+    assert_eq!(w.kimpact.material(a), Some(soft));
+    // Average, unless a rule of higher priority is asked for (either
+    // side's), as rapier combines restitution and friction.
+    let expected = [(Rule::Average, 0.03), (Rule::Max, 0.04), (Rule::Min, 0.02)];
+    for (rule, d) in expected {
+        for mode in [Mode::Restitution, Mode::Exact] {
+            let e = head_on_with(mode, Some(soft), Some(hard.with_combine_rule(rule)));
+            assert!((e - law_e(d)).abs() < 1e3 * tol(), "{mode} {rule:?}: {e} vs {}", law_e(d));
+            let e = head_on_with(mode, Some(soft.with_combine_rule(rule)), Some(hard));
+            assert!((e - law_e(d)).abs() < 1e3 * tol(), "{mode} {rule:?}: {e}");
+        }
+        w.kimpact.set_material(b, Some(hard.with_combine_rule(rule))).unwrap();
+        assert_eq!(w.kimpact.material(b).unwrap().combine_rule(), rule);
+    }
+    // Bad input: a material needs a marked collider, and checked constants.
+    assert!(k::Material::new(-1.0, 0.0).is_err());
+    assert!(k::Material::new(0.0, Real::NAN).is_err());
+    assert!(w.kimpact.unmark(b));
+    assert_eq!(
+        w.kimpact.set_material(b, Some(soft)),
+        Err(k::HandleError::NotMarked(b))
+    );
+    assert_eq!(w.kimpact.material(b), None);
+}
+
+/// Two marked balls meeting at 100 m/s whose bodies a prismatic joint along
+/// x holds with contacts disabled: rapier lets them pass through each
+/// other, and so must every mode.
+#[test]
+fn a_joint_with_contacts_disabled_lets_its_bodies_pass() {
+    for mode in Mode::ALL {
+        let mut w = TestWorld::new(mode, 0.0, Vector::ZERO);
+        let (a, _) = w.ball(Vector::X * -3.0, Vector::X * 50.0, 0.5, 1.0);
+        let (b, _) = w.ball(Vector::X * 3.0, Vector::X * -50.0, 0.5, 1.0);
+        let joint = PrismaticJointBuilder::new(Vector::X).contacts_enabled(false);
+        w.world.impulse_joints.insert(a, b, joint, true);
+        for _ in 0..12 {
+            w.step();
+        }
+        assert!(w.pos(a).x > w.pos(b).x, "{mode}: they passed");
+        assert!(rel_err(w.vel(a), Vector::X * 50.0) < 1e-3, "{mode}: {:?}", w.vel(a));
+        assert_eq!(w.kimpact.stats().impacts, 0, "{mode}");
+    }
+}
+
+/// A user's hooks that let no pair touch.
+struct NoContacts;
+impl PhysicsHooks for NoContacts {
+    fn filter_contact_pair(&self, _: &PairFilterContext) -> Option<SolverFlags> {
+        None
+    }
+}
+
+/// A user's `filter_contact_pair` is consulted for the pairs kimpact's
+/// sweeps find, as rapier consults it for its own.
+#[test]
+fn a_user_filter_decides_the_pairs_the_sweeps_find() {
+    for mode in Mode::ALL {
+        let mut w = TestWorld::new(mode, 0.0, Vector::ZERO);
+        let (a, ca) = w.ball(Vector::X * -3.0, Vector::X * 50.0, 0.5, 1.0);
+        let (b, _) = w.ball(Vector::X * 3.0, Vector::X * -50.0, 0.5, 1.0);
+        w.world.colliders[ca].set_active_hooks(ActiveHooks::FILTER_CONTACT_PAIRS);
+        for _ in 0..12 {
+            w.kimpact.step_world(&mut w.world, &NoContacts, &());
+        }
+        assert!(w.pos(a).x > w.pos(b).x, "{mode}: they passed");
+        assert_eq!(w.kimpact.stats().impacts, 0, "{mode}");
+    }
+}
