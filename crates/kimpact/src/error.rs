@@ -74,6 +74,16 @@ pub enum LawError {
         /// The value given.
         value: f64,
     },
+    /// A restitution coefficient given to
+    /// [`crate::LawParams::from_restitution`] that is NaN or outside `[0, 1]`
+    /// (the law can only take energy away: `e > 1` has no `d̃ ≥ 0`).
+    #[error("{parameter} must be in [0, 1], got {value}")]
+    InvalidRestitution {
+        /// Which coefficient (`ball_restitution` or `wall_restitution`).
+        parameter: &'static str,
+        /// The value given.
+        value: f64,
+    },
     /// A speed given to [`crate::Law::restitution`] that is NaN, infinite or
     /// (for the tangential speed) negative.
     #[error("{quantity} must be finite{}, got {value}", if *.nonnegative { " and >= 0" } else { "" })]

@@ -157,6 +157,96 @@ impl<T: RealField + Copy> Default for LawParams<T> {
     }
 }
 
+impl<T: RealField + Copy> LawParams<T> {
+    /// The parameters under which two reference impacts have the
+    /// restitution coefficients (`e = u'/u`, normal separation speed over
+    /// normal approach speed) `ball_restitution` and `wall_restitution`:
+    ///
+    /// - `ball_restitution`: two bodies of **equal mass** meeting
+    ///   **head-on** (their relative velocity along the normal, no
+    ///   tangential part). The law's `e = sqrt(1 − q)` with
+    ///   `q = 2 d̃ ρ (t + 2 + 1/t)` (see [`Law`]) has `t = 1` and `ρ = 1`
+    ///   there, so `e = sqrt(1 − 8 d̃)` and
+    ///
+    ///   ```text
+    ///   d̃ = (1 − e_ball²) / 8.
+    ///   ```
+    /// - `wall_restitution`: a body of any mass hitting a **fixed or
+    ///   kinematic** body **head-on** under [`FixedPartner::OwnMass`] (which
+    ///   these parameters select): `q = 2 d̃_w ρ`, so `e = sqrt(1 − 2 d̃_w)` and
+    ///
+    ///   ```text
+    ///   d̃_w = (1 − e_wall²) / 2.
+    ///   ```
+    ///
+    /// `1 − e²` is computed as `(1 − e)(1 + e)` (accurate near `e = 1`); the
+    /// law resolves either reference impact back to its `e` with `q` within
+    /// a few ulps `ε` of `1 − e²` (`crates/kimpact/tests/restitution.rs`),
+    /// so `e` within about `ε/e`: 1e-12 in f64 for `e ≥ 4e-4`, 1e-5 in f32
+    /// for `e ≥ 0.05`. `e = 1` is elastic (`d̃ = 0`); `e = 0` is exactly
+    /// plastic (`q = 1`, not clamped) along an axis, and sits on the clamp:
+    /// along another normal, `ρ` rounded a few ulps off 1 gives
+    /// `e ≈ sqrt(ε)` or the clamp's `1e-3`, never more.
+    ///
+    /// **Every other impact has another restitution**, because the law
+    /// dissipates `d = d̃ (m₁ + m₂) |w|²` (`w` the relative velocity,
+    /// tangential part included) out of the normal motion alone. With `r`
+    /// the mass ratio (`t = 1/r`) and `θ` the angle between `w` and the
+    /// normal (`ρ = 1/cos²θ`):
+    ///
+    /// ```text
+    /// e = sqrt(1 − (1 − e_ball²) (r + 2 + 1/r) / (4 cos²θ))   two finite masses,
+    /// e = sqrt(1 − (1 − e_wall²) / cos²θ)                      against a wall,
+    /// ```
+    ///
+    /// clamped (to `e = 1e-3`, see [`CLAMP_TOLERANCE`]) where the root would
+    /// be negative: with `e_ball = 0.8` a head-on impact of masses 1:10 is
+    /// already clamped. `docs/restitution.md` tabulates `e` over mass ratio
+    /// and angle.
+    ///
+    /// # Errors
+    /// [`LawError::InvalidRestitution`] naming `ball_restitution` or
+    /// `wall_restitution` if it is NaN or outside `[0, 1]`.
+    ///
+    /// ```
+    /// use kimpact::{Body, Law, LawParams};
+    /// use kimpact::nalgebra::Vector2;
+    ///
+    /// let law = Law::new(LawParams::from_restitution(0.8_f64, 0.9)?)?;
+    /// let a = Body::new(2.0, Vector2::new(3.0, 0.0))?;
+    /// let b = Body::new(2.0, Vector2::zeros())?;
+    /// let impact = law.resolve(&a, &b, &Vector2::x())?.expect("approaching");
+    /// assert!((impact.restitution - 0.8).abs() < 1e-12);
+    /// # Ok::<(), kimpact::LawError>(())
+    /// ```
+    pub fn from_restitution(ball_restitution: T, wall_restitution: T) -> Result<Self, LawError> {
+        let ball = check_restitution(ball_restitution, "ball_restitution")?;
+        let wall = check_restitution(wall_restitution, "wall_restitution")?;
+        let one = T::one();
+        let loss = |e: T| (one - e) * (one + e);
+        Ok(Self {
+            dissipation: loss(ball) * T::from_subset(&0.125),
+            wall_dissipation: Some(loss(wall) * half::<T>()),
+            fixed_partner: FixedPartner::OwnMass,
+        })
+    }
+}
+
+fn check_restitution<T: RealField + Copy>(
+    value: T,
+    parameter: &'static str,
+) -> Result<T, LawError> {
+    // NaN fails both comparisons.
+    if value >= T::zero() && value <= T::one() {
+        Ok(value)
+    } else {
+        Err(LawError::InvalidRestitution {
+            parameter,
+            value: to_f64(value),
+        })
+    }
+}
+
 /// The mass-weighted k-update of `shared/seed/collision-events.md`.
 ///
 /// For bodies 1 and 2 with masses `m₁, m₂`, velocities `v₁, v₂` and unit
@@ -441,6 +531,11 @@ impl<T: RealField + Copy> Law<T> {
 
     /// The law with dissipation constant `d̃` (also used against walls).
     ///
+    /// `d̃` is not `1 − e`: two equal masses meeting head-on bounce with
+    /// `e = sqrt(1 − 8 d̃)` (plastic from `d̃ = 1/8` on), a head-on impact
+    /// on a wall with `e = sqrt(1 − 2 d̃)`. To choose the law from
+    /// restitution coefficients, use [`Law::from_restitution`].
+    ///
     /// # Errors
     /// [`LawError::InvalidDissipation`] if `d̃` is negative, NaN or infinite.
     pub fn with_dissipation(dissipation: T) -> Result<Self, LawError> {
@@ -448,6 +543,21 @@ impl<T: RealField + Copy> Law<T> {
             dissipation,
             ..LawParams::default()
         })
+    }
+
+    /// The law of [`LawParams::from_restitution`]: restitution
+    /// `ball_restitution` for two equal masses meeting head-on, and
+    /// `wall_restitution` for a head-on impact against a fixed or kinematic
+    /// body ([`FixedPartner::OwnMass`]). Other impacts differ: see there.
+    ///
+    /// # Errors
+    /// [`LawError::InvalidRestitution`] naming the coefficient that is NaN
+    /// or outside `[0, 1]`.
+    pub fn from_restitution(ball_restitution: T, wall_restitution: T) -> Result<Self, LawError> {
+        Self::new(LawParams::from_restitution(
+            ball_restitution,
+            wall_restitution,
+        )?)
     }
 
     /// The parameters this law was built from.

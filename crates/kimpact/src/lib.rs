@@ -20,6 +20,13 @@
 //! [`Law`] for the form in which it is computed (exact to a few ulps across
 //! extreme mass ratios) and [`FixedPartner`] for walls.
 //!
+//! `d̃` is not a restitution coefficient. [`LawParams::from_restitution`]
+//! (and [`Law::from_restitution`]) chooses `d̃` and the wall's `d̃_w` from
+//! the restitution of two reference impacts (equal masses head-on; head-on
+//! against a wall); how the restitution of every other impact follows from
+//! the mass ratio and the impact angle is tabulated, and explained, in
+//! [`docs/restitution.md`](https://github.com/kimpact/kimpact/blob/main/docs/restitution.md).
+//!
 //! ```
 //! use kimpact::{Body, Law, LawParams};
 //! use nalgebra::Vector3;
