@@ -56,6 +56,11 @@ pub fn compare(scene: &Scene, steps: Option<u64>, dir: &Path) -> Result<(), CliE
         }
     }
     let reports: Vec<Report> = runs.iter().map(|r| report::build(scene, r)).collect();
+    for r in &reports {
+        for w in &r.warnings[scene.warnings.len()..] {
+            eprintln!("warning: {w}");
+        }
+    }
 
     // Everything in memory first.
     let mut files: Vec<(PathBuf, Vec<u8>)> = Vec::new();
@@ -216,13 +221,24 @@ fn summary(scene: &Scene, steps: u64, reports: &[Report], times: &[f64]) -> Stri
         num(steps as f64 * scene.dt),
         scene.active_effects().join(", ")
     );
+    let run_warnings: Vec<&String> = reports
+        .iter()
+        .flat_map(|r| &r.warnings[scene.warnings.len()..])
+        .collect();
+    if !scene.warnings.is_empty() || !run_warnings.is_empty() {
+        let _ = writeln!(s, "## Warnings\n");
+        for w in scene.warnings.iter().chain(run_warnings) {
+            let _ = writeln!(s, "- {w}");
+        }
+        let _ = writeln!(s);
+    }
     let _ = writeln!(
         s,
-        "| mode | kinetic initial | kinetic final | total energy change | \\|p\\| law initial | \\|p\\| law final | \\|Δp\\| all | impacts | clamped | dissipated | energy unexplained | s/step | max penetration / size | crossings | escaped |"
+        "| mode | kinetic initial | kinetic final | total energy change | \\|p\\| law initial | \\|p\\| law final | \\|Δp\\| all | impacts | clamped | dissipated | energy integrator | energy unexplained | s/step | max penetration / size | crossings | escaped |"
     );
     let _ = writeln!(
         s,
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
     );
     for r in reports {
         let dp: Vec<f64> = r
@@ -235,7 +251,7 @@ fn summary(scene: &Scene, steps: u64, reports: &[Report], times: &[f64]) -> Stri
             .collect();
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             r.mode,
             num(r.energy.kinetic_initial),
             num(r.energy.kinetic_final),
@@ -246,6 +262,7 @@ fn summary(scene: &Scene, steps: u64, reports: &[Report], times: &[f64]) -> Stri
             r.impacts.count,
             r.impacts.clamped,
             num(r.impacts.dissipated),
+            num(r.checks.energy_integrator),
             num(r.checks.energy_unexplained),
             num(r.timing.seconds_per_step),
             num(r.checks.max_penetration_ratio),
@@ -254,9 +271,10 @@ fn summary(scene: &Scene, steps: u64, reports: &[Report], times: &[f64]) -> Stri
         );
     }
     let _ = writeln!(s);
+    let tol = reports.first().map_or(0.0, |r| r.checks.tolerance);
     let _ = writeln!(
         s,
-        "Impacts, clamped and dissipated are kimpact's counts (none in native mode). Energy unexplained = total energy change + dissipated: negative is energy lost in rapier's contacts, positive is energy created. Momentum changes through fixed bodies and gravity. Max penetration is the deepest contact seen, over the smaller body's size; crossings counts pairs of balls that passed through each other within a step; escaped counts moving bodies that left the box of the fixed bodies.\n"
+        "Impacts, clamped and dissipated are kimpact's counts (none in native mode). Energy integrator = −(h/2) Σ m g·(v_final − v_initial), h = dt / substeps: the part of the total energy change that rapier's symplectic Euler integration accounts for (zero without gravity). Energy unexplained = total energy change + dissipated − energy integrator: negative is energy lost in rapier's contacts (or by an impact's velocity change under gravity), positive is energy created; a warning above names each mode where it exceeds the tolerance (relative to the energy scale: {tol:.0e}). Momentum changes through fixed bodies and gravity; without either, a change beyond the same tolerance (relative to the momentum scale) is warned about too. Max penetration is the deepest contact seen, over the smaller body's size; crossings counts pairs of balls that passed through each other within a step; escaped counts moving bodies that left the box of the fixed bodies.\n"
     );
     let _ = writeln!(
         s,

@@ -183,6 +183,10 @@ fn run(
         b.finish_and_clear();
     }
     let report = report::build(&scene, &result);
+    // The scene's own warnings were printed when it was loaded.
+    for w in &report.warnings[scene.warnings.len()..] {
+        eprintln!("warning: {w}");
+    }
     let mut json = serde_json::to_string_pretty(&report)
         .map_err(|e| CliError::Internal(format!("cannot encode the report: {e}")))?;
     json.push('\n');

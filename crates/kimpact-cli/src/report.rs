@@ -2,7 +2,7 @@
 
 use serde::Serialize;
 
-use crate::scene::{Effect, Scene, Shape};
+use crate::scene::{Effect, Precision, Scene, Shape};
 use crate::sim::{RunOutput, Sample};
 
 /// The report of one run. Same scene, same mode, same build: identical
@@ -39,7 +39,9 @@ pub struct Report {
     pub setup: Setup,
     /// Health checks of the run.
     pub checks: Checks,
-    /// Warnings about the scene.
+    /// Warnings about the scene (from loading it) and about the run: energy
+    /// unexplained, or momentum changed in a scene that conserves it, beyond
+    /// [`Checks::tolerance`].
     pub warnings: Vec<String>,
 }
 
@@ -132,6 +134,8 @@ pub struct Setup {
     pub marked_bodies: usize,
     /// Bodies in the scene.
     pub body_count: usize,
+    /// rapier's substeps per step (`IntegrationParameters::num_solver_iterations`).
+    pub substeps: usize,
 }
 
 /// Health checks: none of these should be large.
@@ -154,12 +158,44 @@ pub struct Checks {
     pub escaped: Option<usize>,
     /// Bodies with a non-finite position or velocity at the end.
     pub non_finite: usize,
-    /// `energy.total_change + impacts.dissipated`: the change of total
-    /// energy that the law's dissipation does not explain. Negative: energy
-    /// lost in rapier's contacts (all of it in native mode); positive:
-    /// energy created, which no mode should do.
+    /// The integrator's share of `energy.total_change`:
+    /// `−(h/2) Σ m g·(v_final − v_initial)`, `h = dt / setup.substeps`.
+    /// rapier integrates each substep by symplectic Euler (`v += g h`, then
+    /// `x += v h`), which keeps `½ m |v|² − m g·x + (h/2) m g·v` exactly
+    /// through free flight, not `½ m |v|² − m g·x`: a body falling freely
+    /// from rest for a time `τ` reports `−(h/2) m |g|² τ` of total energy
+    /// change that is neither an impact nor a contact. Zero without gravity.
+    pub energy_integrator: f64,
+    /// `energy.total_change + impacts.dissipated − energy_integrator`: the
+    /// change of total energy that neither the law's dissipation nor
+    /// rapier's integrator explains. Negative: energy lost in rapier's
+    /// contacts (all of it in native mode: restitution below 1, resting
+    /// contacts, friction), or in an impact's change of velocity under
+    /// gravity (see docs/scenes.md); positive: energy created, which no mode
+    /// should do. Warned about beyond `tolerance · energy_scale`.
     pub energy_unexplained: f64,
+    /// The largest `Σ ½ m |v|² + Σ m |g·x|` over the run's steps (rotation
+    /// included with `spin`): the size of the energies the balance sums.
+    pub energy_scale: f64,
+    /// `|Δp|`, the change of the momentum of all bodies over the run.
+    pub momentum_change: f64,
+    /// The largest `Σ m |v|` over the run's steps.
+    pub momentum_scale: f64,
+    /// Whether the scene conserves momentum: no fixed body and no gravity.
+    /// Only then is `momentum_change` warned about beyond
+    /// `tolerance · momentum_scale`.
+    pub momentum_conserved: bool,
+    /// The relative tolerance of both warnings: [`TOLERANCE_F64`] or
+    /// [`TOLERANCE_F32`] after the scene's precision.
+    pub tolerance: f64,
 }
+
+/// The relative tolerance of the energy and momentum warnings in f64
+/// scenes (docs/scenes.md, "The report").
+pub const TOLERANCE_F64: f64 = 1e-9;
+
+/// The same in f32 scenes.
+pub const TOLERANCE_F32: f64 = 1e-5;
 
 /// The norm of a vector.
 pub fn norm(v: &[f64]) -> f64 {
@@ -202,6 +238,10 @@ pub fn build(scene: &Scene, run: &RunOutput) -> Report {
             .count()
     });
     let wall = run.wall_seconds;
+    let total_change = (last.kinetic + last.potential) - (first.kinetic + first.potential);
+    let balance = Balance::of(scene, run, total_change);
+    let mut warnings = scene.warnings.clone();
+    warnings.extend(balance.warnings(scene, run));
     Report {
         scene: scene.file.clone(),
         description: scene.description.clone(),
@@ -216,7 +256,7 @@ pub fn build(scene: &Scene, run: &RunOutput) -> Report {
             kinetic_final: last.kinetic,
             potential_initial: first.potential,
             potential_final: last.potential,
-            total_change: (last.kinetic + last.potential) - (first.kinetic + first.potential),
+            total_change,
         },
         momentum: Momentum {
             initial: MomentumPair {
@@ -250,6 +290,7 @@ pub fn build(scene: &Scene, run: &RunOutput) -> Report {
             ccd_bodies: run.ccd_bodies,
             marked_bodies: run.law_bodies,
             body_count: scene.bodies.len(),
+            substeps: run.substeps,
         },
         checks: Checks {
             max_penetration: run.max_penetration,
@@ -257,10 +298,98 @@ pub fn build(scene: &Scene, run: &RunOutput) -> Report {
             crossings: run.crossings,
             escaped,
             non_finite,
-            energy_unexplained: (last.kinetic + last.potential) - (first.kinetic + first.potential)
-                + run.stats.dissipated,
+            energy_integrator: balance.integrator,
+            energy_unexplained: balance.unexplained,
+            energy_scale: balance.energy_scale,
+            momentum_change: balance.momentum_change,
+            momentum_scale: balance.momentum_scale,
+            momentum_conserved: balance.momentum_conserved,
+            tolerance: balance.tolerance,
         },
-        warnings: scene.warnings.clone(),
+        warnings,
+    }
+}
+
+/// The energy and momentum balance of a run (see [`Checks`]).
+struct Balance {
+    integrator: f64,
+    unexplained: f64,
+    energy_scale: f64,
+    momentum_change: f64,
+    momentum_scale: f64,
+    momentum_conserved: bool,
+    tolerance: f64,
+}
+
+impl Balance {
+    fn of(scene: &Scene, run: &RunOutput, total_change: f64) -> Self {
+        let first = &run.samples[0];
+        let last = run.samples.last().unwrap_or(first);
+        // The substep rapier integrates with (a run always has at least one).
+        let h = scene.dt / run.substeps.max(1) as f64;
+        // −(h/2) ΔP, written so that no gravity gives +0, not −0.
+        let integrator = 0.5 * h * (first.gravity_power - last.gravity_power);
+        let largest = |f: fn(&Sample) -> f64| run.samples.iter().map(f).fold(0.0, f64::max);
+        let dp: Vec<f64> = last
+            .momentum_all
+            .iter()
+            .zip(&first.momentum_all)
+            .map(|(a, b)| a - b)
+            .collect();
+        Self {
+            integrator,
+            unexplained: total_change + run.stats.dissipated - integrator,
+            energy_scale: largest(|s| s.energy_scale),
+            momentum_change: norm(&dp),
+            momentum_scale: largest(|s| s.momentum_scale),
+            momentum_conserved: !scene.active(Effect::FixedWalls) && !scene.active(Effect::Gravity),
+            tolerance: match scene.precision {
+                Precision::F64 => TOLERANCE_F64,
+                Precision::F32 => TOLERANCE_F32,
+            },
+        }
+    }
+
+    /// The warnings of the run: energy unexplained, or momentum changed in a
+    /// scene that conserves it, beyond the tolerance (written so that a NaN
+    /// warns).
+    fn warnings(&self, scene: &Scene, run: &RunOutput) -> Vec<String> {
+        let mut w = Vec::new();
+        let mode = run.mode.name();
+        if !(self.unexplained.abs() <= self.tolerance * self.energy_scale) {
+            w.push(format!(
+                "{}: {mode}: energy unexplained {:.3e} is {:.3e} of the energy scale {:.3e} (tolerance {:.0e}): \
+                 neither the law's dissipation ({:.3e}) nor rapier's integrator ({:.3e}) accounts for it: {}",
+                scene.file,
+                self.unexplained,
+                self.unexplained.abs() / self.energy_scale,
+                self.energy_scale,
+                self.tolerance,
+                run.stats.dissipated,
+                self.integrator,
+                if self.unexplained > 0.0 {
+                    "energy created, which no mode should do"
+                } else {
+                    "energy lost in rapier's contacts (restitution below 1, friction, resting or \
+                     simultaneous contacts), to sleeping bodies, to rapier's speed cap, or by an \
+                     impact's velocity change under gravity"
+                },
+            ));
+        }
+        if self.momentum_conserved
+            && !(self.momentum_change <= self.tolerance * self.momentum_scale)
+        {
+            w.push(format!(
+                "{}: {mode}: momentum changed by {:.3e} ({:.3e} of the momentum scale {:.3e}, tolerance {:.0e}) \
+                 in a scene with no fixed body and no gravity",
+                scene.file,
+                self.momentum_change,
+                self.momentum_change / self.momentum_scale,
+                self.momentum_scale,
+                self.tolerance,
+            ));
+        }
+        w
     }
 }
 

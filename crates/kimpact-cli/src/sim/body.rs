@@ -118,6 +118,9 @@ pub(super) fn run(
         let mut potential = 0.0;
         let mut momentum_all = vec![0.0; dim];
         let mut momentum_law = vec![0.0; dim];
+        let mut gravity_power = 0.0;
+        let mut potential_scale = 0.0;
+        let mut momentum_scale = 0.0;
         for (i, h) in handles.iter().enumerate() {
             let Some(m) = masses[i] else { continue };
             let rb = &world.bodies[*h];
@@ -132,7 +135,11 @@ pub(super) fn run(
                 let own = 0.5 * rb.mass() * lin.dot(lin);
                 kinetic += (rb.kinetic_energy() - own).max(0.0) as f64;
             }
-            potential -= m * gravity.iter().zip(&x).map(|(g, x)| g * x).sum::<f64>();
+            let gx = gravity.iter().zip(&x).map(|(g, x)| g * x).sum::<f64>();
+            potential -= m * gx;
+            potential_scale += m * gx.abs();
+            gravity_power += m * gravity.iter().zip(&v).map(|(g, v)| g * v).sum::<f64>();
+            momentum_scale += m * v2.sqrt();
             for kk in 0..dim {
                 momentum_all[kk] += m * v[kk];
                 if law_mask[i] {
@@ -146,6 +153,9 @@ pub(super) fn run(
             potential,
             momentum_all,
             momentum_law,
+            gravity_power,
+            energy_scale: kinetic + potential_scale,
+            momentum_scale,
         }
     };
     let state = |world: &PhysicsWorld| -> Vec<super::BodyState> {
@@ -256,5 +266,6 @@ pub(super) fn run(
         crossings,
         ccd_bodies: ccd.iter().filter(|c| **c).count(),
         law_bodies,
+        substeps: world.integration_parameters.num_solver_iterations,
     }
 }

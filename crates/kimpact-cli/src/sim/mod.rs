@@ -34,6 +34,15 @@ pub struct Sample {
     pub momentum_all: Vec<f64>,
     /// Momentum of the law bodies.
     pub momentum_law: Vec<f64>,
+    /// `Σ m g·v`, the power of gravity: rapier's integrator lags the
+    /// potential energy behind the kinetic by `(h/2) Σ m g·v` (see
+    /// [`crate::report::Checks::energy_integrator`]).
+    pub gravity_power: f64,
+    /// `Σ m |v|²/2 + Σ m |g·x|` (rotation included with `spin`): the size of
+    /// the energies summed, against which the energy balance is judged.
+    pub energy_scale: f64,
+    /// `Σ m |v|`: the size of the momenta summed.
+    pub momentum_scale: f64,
 }
 
 /// Every body at one time, for pictures.
@@ -90,6 +99,8 @@ pub struct RunOutput {
     pub ccd_bodies: usize,
     /// Colliders marked for the law.
     pub law_bodies: usize,
+    /// rapier's substeps per step (`IntegrationParameters::num_solver_iterations`).
+    pub substeps: usize,
 }
 
 /// Run `scene` in `mode` for `steps` steps, recording frames at the given
