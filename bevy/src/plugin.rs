@@ -291,11 +291,12 @@ fn before_step<H>(
     let Some(context) = governed(&contexts, state) else {
         return;
     };
-    let Ok((_, mut simulation, mut colliders, mut bodies, joints, config, to_render, _)) =
+    let Ok((_, simulation, mut colliders, mut bodies, joints, config, to_render, _)) =
         contexts.get_mut(context)
     else {
         return;
     };
+    let simulation_tick = simulation.last_changed();
     for (entity, handle, link) in &new_marks {
         if link.is_some_and(|l| l.0 != context) {
             if !state.warned.other_context {
@@ -342,7 +343,9 @@ fn before_step<H>(
     } else {
         None
     };
-    let simulation = &mut *simulation;
+    // Read only: its change tick tells the after system whether
+    // bevy_rapier's step (which changes it) ran in between.
+    let simulation: &RapierContextSimulation = &simulation;
     state.kimpact.before_step(
         config.gravity,
         &planned.parameters,
@@ -359,6 +362,7 @@ fn before_step<H>(
         context,
         steps: planned.count,
         restore,
+        simulation_tick,
     });
 }
 
@@ -400,7 +404,12 @@ fn after_step<H>(
         }
         return;
     };
-    let ran = simulation.step_stats().num_steps;
+    let stepped = simulation.last_changed() != step.simulation_tick;
+    let ran = if stepped {
+        simulation.step_stats().num_steps
+    } else {
+        0
+    };
     if ran != step.steps && !state.warned.step_mismatch {
         state.warned.step_mismatch = true;
         log::warn!(

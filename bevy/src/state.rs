@@ -1,5 +1,6 @@
 //! The resolver as a Bevy resource, and which collider entity it marked.
 
+use bevy::ecs::change_detection::Tick;
 use bevy::platform::collections::HashMap;
 use bevy::prelude::{Entity, Resource};
 
@@ -33,6 +34,9 @@ pub(crate) struct PreparedStep {
     pub steps: usize,
     /// The mode to restore after a frame run natively (several steps).
     pub restore: Option<Mode>,
+    /// The context's change tick before the step (bevy_rapier's step
+    /// changes it).
+    pub simulation_tick: Tick,
 }
 
 /// Warnings given once per run.

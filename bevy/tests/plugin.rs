@@ -62,6 +62,8 @@ enum Timing {
     FixedUpdate,
     /// `TimestepMode::Fixed` with this many substeps.
     Substeps(usize),
+    /// bevy_rapier in `FixedUpdate`, kimpact (wrongly) in `PostUpdate`.
+    Mismatched,
 }
 
 /// A user's own hooks: count the calls for colliders they flagged.
@@ -96,12 +98,14 @@ fn app_with(settings: Option<KimpactSettings>, timing: Timing, user_hooks: bool)
         },
         broad_phase_optimization_strategy: Default::default(),
     };
-    let fixed = matches!(timing, Timing::FixedUpdate);
+    let fixed = matches!(timing, Timing::FixedUpdate | Timing::Mismatched);
     match (settings.is_some(), user_hooks) {
         (true, false) => {
             let rapier =
                 RapierPhysicsPlugin::<KimpactHooks>::default().with_custom_initialization(init);
-            if fixed {
+            if matches!(timing, Timing::Mismatched) {
+                app.add_plugins((rapier.in_fixed_schedule(), KimpactPlugin::default()));
+            } else if fixed {
                 app.add_plugins((
                     rapier.in_fixed_schedule(),
                     KimpactPlugin::default().in_fixed_schedule(),
@@ -132,7 +136,7 @@ fn app_with(settings: Option<KimpactSettings>, timing: Timing, user_hooks: bool)
         app.insert_resource(settings);
     }
     let frame = match timing {
-        Timing::FixedUpdate => {
+        Timing::FixedUpdate | Timing::Mismatched => {
             app.insert_resource(Time::<Fixed>::from_hz(60.0));
             Duration::from_secs_f64(1.0 / 60.0)
         }
@@ -140,7 +144,7 @@ fn app_with(settings: Option<KimpactSettings>, timing: Timing, user_hooks: bool)
     };
     app.insert_resource(TimeUpdateStrategy::ManualDuration(frame));
     app.insert_resource(match timing {
-        Timing::Fixed | Timing::FixedUpdate => TimestepMode::Fixed {
+        Timing::Fixed | Timing::FixedUpdate | Timing::Mismatched => TimestepMode::Fixed {
             dt: DT,
             substeps: 1,
         },
@@ -324,6 +328,16 @@ fn several_steps_per_frame_run_rapier_natively_without_losing_the_mode() {
     assert_eq!(state.stats().impacts, 0);
     // rapier's own cradle does not pass the velocity down the row.
     assert!(vel(&app, balls[5]).x < 0.9, "{:?}", vel(&app, balls[5]));
+}
+
+#[test]
+fn kimpact_outside_bevy_rapiers_schedule_leaves_rapier_alone() {
+    // The stages run with no step between them: kimpact warns and stands
+    // aside (its hook passes every pair to rapier), nothing breaks.
+    let (app, balls, e0, e1, messages) = cradle(Timing::Mismatched);
+    assert!(messages.is_empty(), "{messages:?}");
+    assert!(vel(&app, balls[5]).x < 0.9, "{:?}", vel(&app, balls[5]));
+    assert!(e1 <= e0 * (1.0 + 1e-6), "energy {e0} -> {e1}");
 }
 
 /// A gas of `n` balls (restitution 1, no friction) in a closed box; the
@@ -620,4 +634,64 @@ fn the_users_hooks_are_chained() {
     assert_eq!(messages.len(), 1, "{messages:?}");
     assert!((vel(&app, b).x - 1.0).abs() < 1e-5 && vel(&app, a).x.abs() < 1e-5);
     assert!(vel(&app, u).x < 0.0, "u bounced off the wall");
+}
+
+#[test]
+fn another_rapier_context_keeps_rapiers_response_and_the_users_hooks() {
+    let mut app = app_with(exact(), Timing::Fixed, true);
+    app.update();
+    let other = app
+        .world_mut()
+        .spawn((
+            RapierContextSimulation::default(),
+            RapierConfiguration {
+                gravity: Vect::ZERO,
+                ..RapierConfiguration::new(1.0)
+            },
+        ))
+        .id();
+    // The same pair in both contexts: their collider handles coincide.
+    let a = ball(
+        &mut app,
+        vect(0.0, 0.0, 0.0),
+        vect(1.0, 0.0, 0.0),
+        0.5,
+        1.0,
+        true,
+    );
+    let b = ball(&mut app, vect(1.3, 0.0, 0.0), Vect::ZERO, 0.5, 1.0, true);
+    let c = ball(
+        &mut app,
+        vect(0.0, 0.0, 0.0),
+        vect(1.0, 0.0, 0.0),
+        0.5,
+        1.0,
+        true,
+    );
+    let d = ball(&mut app, vect(1.3, 0.0, 0.0), Vect::ZERO, 0.5, 1.0, true);
+    for e in [c, d] {
+        app.world_mut().entity_mut(e).insert((
+            RapierContextEntityLink(other),
+            ActiveHooks::MODIFY_SOLVER_CONTACTS,
+        ));
+    }
+    let messages = run(&mut app, 40);
+    let named: Vec<_> = messages
+        .iter()
+        .map(|m| (m.collider1, m.collider2))
+        .collect();
+    assert!(named == [(a, b)] || named == [(b, a)], "{named:?}");
+    let state = app.world().resource::<KimpactState>();
+    assert!(state.is_marked(a) && !state.is_marked(c) && !state.is_marked(d));
+    assert!((vel(&app, b).x - 1.0).abs() < 1e-5 && vel(&app, a).x.abs() < 1e-5);
+    // rapier's response (and the user's hook) in the other context.
+    assert!(
+        app.world()
+            .resource::<UserCalls>()
+            .0
+            .load(Ordering::Relaxed)
+            > 0
+    );
+    assert!(vel(&app, d).x > 0.5, "c and d met: {:?}", vel(&app, d));
+    assert!(pos(&app, d).x > pos(&app, c).x + 0.9, "c went through d");
 }
