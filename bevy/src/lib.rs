@@ -33,7 +33,8 @@
 //!   positions and velocities back to your components).
 //! - [`KimpactCollider`] on a collider's entity marks it: its contacts with
 //!   other marked colliders, and with fixed and kinematic bodies, follow the
-//!   law. Removing the component, or despawning the entity, unmarks it.
+//!   law (the settings', or the collider's own [`Material`]). Removing the
+//!   component, or despawning the entity, unmarks it.
 //! - [`KimpactSettings`] (a resource) chooses the [`Mode`] and the law's
 //!   [`LawParams`], and can be changed at any time; the next step uses them.
 //! - Every impact the law resolves is sent as an [`ImpactMessage`] naming the
@@ -74,7 +75,7 @@ pub use kimpact2d as kimpact_rapier;
 #[cfg(feature = "dim3")]
 pub use kimpact3d as kimpact_rapier;
 
-pub use kimpact_rapier::{Config, FixedPartner, ImpactEvent, LawParams, Mode, Stats};
+pub use kimpact_rapier::{Config, FixedPartner, ImpactEvent, LawParams, Material, Mode, Stats};
 
 mod hooks;
 mod plugin;
@@ -93,6 +94,6 @@ use bevy_rapier::plugin::PhysicsSet;
 pub mod prelude {
     pub use crate::{
         ImpactMessage, KimpactCollider, KimpactHooks, KimpactPlugin, KimpactSet, KimpactSettings,
-        KimpactState, LawParams, Mode,
+        KimpactState, LawParams, Material, Mode,
     };
 }

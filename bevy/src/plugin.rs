@@ -17,7 +17,7 @@ use crate::bevy_rapier::plugin::{
 use crate::bevy_rapier::prelude::RapierColliderHandle;
 use crate::hooks::UserHooks;
 use crate::kimpact_rapier::math::Real;
-use crate::kimpact_rapier::{Config, ImpactEvent, Kimpact, Law, LawParams, Mode};
+use crate::kimpact_rapier::{Config, ImpactEvent, Kimpact, Law, LawParams, Material, Mode};
 use crate::state::{KimpactState, PreparedStep};
 use crate::steps::planned_steps;
 
@@ -26,16 +26,29 @@ use crate::steps::planned_steps;
 /// [`Config::fixed_partners`]) follow the law. Put it beside bevy_rapier's
 /// `Collider`; removing it, or despawning the entity, unmarks the collider.
 ///
-/// Build it with `KimpactCollider::default()` (room is kept for per-collider
-/// settings, such as a material, as fields with defaults).
+/// `KimpactCollider::default()` follows the law of [`KimpactSettings`];
+/// [`KimpactCollider::with_material`] gives the collider a [`Material`] of
+/// its own (combined with a partner's as [`Material`] says). Changing the
+/// component changes the collider's material from the next step.
 #[derive(Component, Clone, Debug, Default, PartialEq)]
 #[non_exhaustive]
-pub struct KimpactCollider {}
+pub struct KimpactCollider {
+    /// The collider's own law parameters (`None`: the settings' law).
+    pub material: Option<Material>,
+}
 
 impl KimpactCollider {
-    /// A marker with the default settings (the same as `default()`).
+    /// A marker following the law of [`KimpactSettings`] (the same as
+    /// `default()`).
     pub const fn new() -> Self {
-        Self {}
+        Self { material: None }
+    }
+
+    /// A marker with the collider's own `material`.
+    pub const fn with_material(material: Material) -> Self {
+        Self {
+            material: Some(material),
+        }
     }
 }
 
@@ -203,19 +216,18 @@ type Contexts<'w, 's> = Query<
     ),
 >;
 
-/// Marked collider entities whose marker or rapier collider is new.
+/// Marked collider entities whose marker or rapier collider is new or
+/// changed.
 type NewMarks<'w, 's> = Query<
     'w,
     's,
     (
         Entity,
+        &'static KimpactCollider,
         &'static RapierColliderHandle,
         Option<&'static RapierContextEntityLink>,
     ),
-    (
-        With<KimpactCollider>,
-        Or<(Added<KimpactCollider>, Changed<RapierColliderHandle>)>,
-    ),
+    Or<(Changed<KimpactCollider>, Changed<RapierColliderHandle>)>,
 >;
 
 /// The governed context: the default one, else the only one.
@@ -297,7 +309,7 @@ fn before_step<H>(
         return;
     };
     let simulation_tick = simulation.last_changed();
-    for (entity, handle, link) in &new_marks {
+    for (entity, marker, handle, link) in &new_marks {
         if link.is_some_and(|l| l.0 != context) {
             if !state.warned.other_context {
                 state.warned.other_context = true;
@@ -308,7 +320,7 @@ fn before_step<H>(
             state.unmark(entity);
             continue;
         }
-        state.mark(&colliders.colliders, entity, handle.0);
+        state.mark(&colliders.colliders, entity, handle.0, marker.material);
     }
     let Some(timestep) = timestep else {
         return;

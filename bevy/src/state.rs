@@ -5,7 +5,7 @@ use bevy::platform::collections::HashMap;
 use bevy::prelude::{Entity, Resource};
 
 use crate::kimpact_rapier::rapier::prelude::{ColliderHandle, ColliderSet};
-use crate::kimpact_rapier::{Kimpact, Law, LawParams, Mode, Stats};
+use crate::kimpact_rapier::{Kimpact, Law, LawParams, Material, Mode, Stats};
 
 /// kimpact's resolver for the governed rapier context, with the collider
 /// entities it marked (a resource the plugin inserts).
@@ -95,16 +95,32 @@ impl KimpactState {
         self.marks.by_entity.len()
     }
 
-    /// Mark the collider `handle` of `entity` (unmarking the entity's
-    /// previous collider, if rapier gave it a new one).
-    pub(crate) fn mark(&mut self, colliders: &ColliderSet, entity: Entity, handle: ColliderHandle) {
+    /// Mark the collider `handle` of `entity` with `material` (unmarking the
+    /// entity's previous collider, if rapier gave it a new one; a collider
+    /// marked already only takes the material).
+    pub(crate) fn mark(
+        &mut self,
+        colliders: &ColliderSet,
+        entity: Entity,
+        handle: ColliderHandle,
+        material: Option<Material>,
+    ) {
         if let Some(old) = self.marks.handle(entity) {
             if old == handle && self.kimpact.is_marked(handle) {
+                if self.kimpact.material(handle) != material
+                    && let Err(e) = self.kimpact.set_material(handle, material)
+                {
+                    log::debug!("kimpact: {entity}'s material not set: {e}");
+                }
                 return;
             }
             self.unmark(entity);
         }
-        match self.kimpact.mark(colliders, handle) {
+        let marked = match material {
+            Some(m) => self.kimpact.mark_with(colliders, handle, m),
+            None => self.kimpact.mark(colliders, handle),
+        };
+        match marked {
             Ok(()) => self.marks.insert(entity, handle),
             Err(e) => log::debug!("kimpact: {entity} not marked: {e}"),
         }

@@ -695,3 +695,63 @@ fn another_rapier_context_keeps_rapiers_response_and_the_users_hooks() {
     assert!(vel(&app, d).x > 0.5, "c and d met: {:?}", vel(&app, d));
     assert!(pos(&app, d).x > pos(&app, c).x + 0.9, "c went through d");
 }
+
+#[test]
+fn a_colliders_material_gives_its_pairs_their_own_law() {
+    let mut app = app(exact(), Timing::Fixed);
+    let lossy = Material::new(0.2, 0.2).unwrap();
+    // Three head-on pairs at rows y = 0, 3, 6: both balls lossy; none yet
+    // (one gets the material at run time); none (the settings' elastic law).
+    let mut pairs = Vec::new();
+    for row in 0..3 {
+        let y = 3.0 * row as f32;
+        let a = ball(
+            &mut app,
+            vect(0.0, y, 0.0),
+            vect(1.0, 0.0, 0.0),
+            0.5,
+            1.0,
+            true,
+        );
+        let b = ball(&mut app, vect(1.3, y, 0.0), Vect::ZERO, 0.5, 1.0, true);
+        pairs.push((a, b));
+    }
+    for e in [pairs[0].0, pairs[0].1] {
+        app.world_mut()
+            .entity_mut(e)
+            .insert(KimpactCollider::with_material(lossy));
+    }
+    run(&mut app, 3);
+    app.world_mut()
+        .get_mut::<KimpactCollider>(pairs[1].0)
+        .unwrap()
+        .material = Some(lossy);
+    let messages = run(&mut app, 30);
+    let restitution = |(a, b): (Entity, Entity)| {
+        let m: Vec<_> = messages
+            .iter()
+            .filter(|m| [a, b].contains(&m.collider1) && [a, b].contains(&m.collider2))
+            .collect();
+        assert_eq!(m.len(), 1, "{m:?}");
+        m[0].impact.restitution
+    };
+    let (lossy_both, lossy_one, elastic) = (
+        restitution(pairs[0]),
+        restitution(pairs[1]),
+        restitution(pairs[2]),
+    );
+    assert!(lossy_both < 0.95, "{lossy_both}");
+    // One side's material is the pair's law.
+    assert!(
+        (lossy_one - lossy_both).abs() < 1e-5,
+        "{lossy_one} vs {lossy_both}"
+    );
+    assert!((elastic - 1.0).abs() < 1e-5, "{elastic}");
+    let state = app.world().resource::<KimpactState>();
+    let handle = app
+        .world()
+        .get::<RapierColliderHandle>(pairs[1].0)
+        .unwrap()
+        .0;
+    assert_eq!(state.kimpact().material(handle), Some(lossy));
+}
