@@ -73,6 +73,11 @@
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
 
+// The README's examples are tests too (it is the crate's page on crates.io).
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctests;
+
 mod error;
 mod grid;
 mod kinematics;
