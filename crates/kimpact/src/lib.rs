@@ -45,8 +45,14 @@
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
 
+// The README's examples are tests too (it is the crate's page on crates.io).
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctests;
+
 mod error;
 mod law;
+pub mod prelude;
 
 pub use error::{LawError, Which};
 pub use law::{

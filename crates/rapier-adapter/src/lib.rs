@@ -8,10 +8,10 @@
 //! (m₁m₂(m₁+m₂)/2) k² + k m₁m₂ (v₁·n̄₂ + v₂·n̄₁) + d = 0,   d = d̃ (m₁+m₂) |v₂ − v₁|²
 //! ```
 //!
-//! This one source is built as `kimpact2d`, `kimpact3d` (f32, or f64 with the
-//! `f64` feature) and `kimpact2d-f64`, `kimpact3d-f64`, the way rapier and
-//! parry build theirs; [`rapier`] is the rapier crate it was built against and
-//! [`math`] holds the aliases the rest of the code speaks.
+//! This one source is built as `kimpact2d`, `kimpact3d` (f32) and
+//! `kimpact2d-f64`, `kimpact3d-f64` (f64), the way rapier and parry build
+//! theirs; [`rapier`] is the rapier crate it was built against and [`math`]
+//! holds the aliases the rest of the code speaks.
 //!
 //! Adding kimpact to a rapier simulation takes three changes: build a
 //! [`Kimpact`] from a [`Law`] and a [`Mode`], [`Kimpact::mark`] the colliders
@@ -20,6 +20,7 @@
 //! Everything not marked keeps rapier's behaviour. A program that calls
 //! `PhysicsPipeline::step` itself runs kimpact's three stages around it:
 //! [`Kimpact::before_step`], [`Kimpact::hooks`], [`Kimpact::after_step`].
+//! [`prelude`] holds the names these changes use.
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
 // One source for f32 and f64: `f64::from(x)` is a conversion in one build
@@ -67,6 +68,7 @@ mod material;
 pub mod math;
 mod mode;
 mod pair_filter;
+pub mod prelude;
 mod prepare;
 mod replay;
 mod resolver;
