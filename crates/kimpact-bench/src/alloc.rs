@@ -3,8 +3,10 @@
 //!
 //! Attribution: while [`attribute`] is on, every allocation is classified
 //! from its stack (file paths of the frames, from the allocation outwards):
-//! the first frame in kimpact's sources (`crates/rapier-adapter/src`,
-//! `crates/kimpact/src`) makes it kimpact's own (this includes kimpact's
+//! the first frame in kimpact's sources (`crates/kimpact/src`, and the
+//! adapters' `crates/rapier-adapter/src`, which the debug info names by the
+//! link each adapter crate compiles it through, `crates/kimpact3d/src`…)
+//! makes it kimpact's own (this includes kimpact's
 //! contact hook, which rapier calls, and parry calls made by kimpact's
 //! replay); the first frame in rapier's `pipeline/physics_pipeline`, or none
 //! of the two, makes it rapier's. Each allocation costs a stack walk; each
@@ -108,6 +110,18 @@ fn symbolize(ips: &[usize]) -> Vec<String> {
     paths
 }
 
+/// kimpact's source directories: the core, the adapters' one source and
+/// the four links to it (`src` of each adapter crate), by which rustc names
+/// the adapter's files in the debug info.
+const KIMPACT_SOURCES: [&str; 6] = [
+    "crates/kimpact/src/",
+    "rapier-adapter/src/",
+    "crates/kimpact2d/src/",
+    "crates/kimpact3d/src/",
+    "crates/kimpact2d-f64/src/",
+    "crates/kimpact3d-f64/src/",
+];
+
 /// Whether a stack (its frames' source paths, innermost first) reaches
 /// kimpact's sources before rapier's pipeline step (see the module docs).
 /// An allocation inside rapier's `RigidBodySet` is rapier's even when
@@ -117,7 +131,7 @@ fn symbolize(ips: &[usize]) -> Vec<String> {
 /// velocity through `RigidBodySet::get_mut`, kimpact or the user's own code.
 fn is_kimpact<'a>(paths: impl IntoIterator<Item = &'a str>) -> bool {
     for path in paths {
-        if path.contains("rapier-adapter/src/") || path.contains("crates/kimpact/src/") {
+        if KIMPACT_SOURCES.iter().any(|dir| path.contains(dir)) {
             return true;
         }
         if path.contains("/src/pipeline/physics_pipeline")
@@ -216,6 +230,11 @@ mod tests {
             "/c/rapier3d-0.36.1/src/pipeline/physics_pipeline.rs:1",
         ];
         assert!(is_kimpact(hook));
+        // The adapter's files as rustc names them, through a crate's link.
+        for krate in ["kimpact2d", "kimpact3d", "kimpact2d-f64", "kimpact3d-f64"] {
+            let file = format!("./crates/{krate}/src/replay.rs:1");
+            assert!(is_kimpact(["/r/alloc/src/raw_vec.rs:1", file.as_str()]));
+        }
         let rapier = [
             "/r/alloc/src/raw_vec.rs:1",
             "/c/rapier3d-0.36.1/src/pipeline/physics_pipeline/mod.rs:1",

@@ -1,15 +1,15 @@
 //! An elastic hard-disk gas in a closed box, rapier2d, every mode, written
 //! with `PhysicsPipeline::step` and its sets (the other drop-in form; see
-//! `cradle3d.rs` for `PhysicsWorld`).
+//! `cradle2d.rs` for `PhysicsWorld`).
 //!
-//! `cargo run --example gas2d`
+//! `cargo run -p kimpact2d --example gas2d`
 //!
 //! 200 disks with restitution 1 bounce in a box for 3,000 steps. Plain
 //! rapier loses kinetic energy; kimpact's `exact` mode keeps it to rounding.
 //! The lines marked `kimpact:` are the whole change.
 
+use kimpact2d::prelude::*;
 use kimpact2d::rapier::prelude::*;
-use kimpact2d::{Kimpact, Law, Mode};
 
 fn run(mode: Mode) -> (f32, f32, u64) {
     let mut bodies = RigidBodySet::new();

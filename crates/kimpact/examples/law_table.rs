@@ -1,6 +1,6 @@
 //! The law's effective restitution across mass ratios and impact angles.
 //!
-//! `cargo run --example law_table [dissipation]` prints, for d̃ (default
+//! `cargo run -p kimpact --example law_table [dissipation]` prints, for d̃ (default
 //! 0.01), the restitution e = u'/u the law gives a ball hitting another at
 //! 1 m/s, and the energy it dissipates, as a table. It shows what d̃ means:
 //! the law dissipates more for unequal masses and grazing impacts.

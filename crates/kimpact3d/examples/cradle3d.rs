@@ -1,14 +1,14 @@
 //! Newton's cradle in rapier3d, first plain, then with kimpact.
 //!
-//! `cargo run --example cradle3d`
+//! `cargo run -p kimpact3d --example cradle3d` (`cradle2d` in kimpact2d)
 //!
 //! A plain rapier simulation (restitution 1) passes only part of the
 //! incoming ball's energy down the row; the same code with kimpact's
 //! `exact` mode passes all of it, leaving the first five balls at rest.
 //! The lines marked `kimpact:` are the whole change.
 
+use kimpact3d::prelude::*;
 use kimpact3d::rapier::prelude::*;
-use kimpact3d::{Kimpact, Law, Mode};
 
 fn run(mode: Mode) -> Vec<Vector> {
     let mut world = PhysicsWorld::new();
