@@ -27,7 +27,9 @@ mod d3 {
                 .linvel(Vector::new(v, 0.0, 0.0));
             let collider = ColliderBuilder::ball(0.5).restitution(1.0).friction(0.0);
             let (ball, collider) = world.insert(body, collider);
-            kimpact.mark(collider);
+            kimpact
+                .mark(&world.colliders, collider)
+                .expect("inserted just above");
             balls.push(ball);
         }
         for _ in 0..120 {
@@ -59,7 +61,9 @@ mod d2 {
                 .linvel(Vector::new(v, 0.0));
             let collider = ColliderBuilder::ball(0.5).restitution(1.0).friction(0.0);
             let (ball, collider) = world.insert(body, collider);
-            kimpact.mark(collider);
+            kimpact
+                .mark(&world.colliders, collider)
+                .expect("inserted just above");
             balls.push(ball);
         }
         for _ in 0..120 {
