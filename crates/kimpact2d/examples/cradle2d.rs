@@ -26,7 +26,9 @@ fn run(mode: Mode) -> Vec<Vector> {
             .linvel(Vector::new(v, 0.0));
         let collider = ColliderBuilder::ball(0.5).restitution(1.0).friction(0.0);
         let (b, c) = world.insert(body, collider);
-        kimpact.mark(&world.colliders, c).expect("inserted just above"); // kimpact: this ball follows the law
+        kimpact
+            .mark(&world.colliders, c)
+            .expect("inserted just above"); // kimpact: this ball follows the law
         balls.push(b);
     }
     for _ in 0..120 {
