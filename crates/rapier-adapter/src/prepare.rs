@@ -26,8 +26,6 @@ pub(crate) struct PrepareInput<'a> {
     pub mode: Mode,
     pub fixed_partners: bool,
     pub calm_neighbourhoods: bool,
-    /// `Config::keep_moving_awake`.
-    pub keep_moving_awake: bool,
 }
 
 /// The hook flags kimpact keeps between steps, and the start of the step.
@@ -57,11 +55,6 @@ pub(crate) struct Prepare {
     /// Per body index: start-of-step translation (exact mode).
     #[cfg_attr(feature = "serde-serialize", serde(skip))]
     pub starts: Starts,
-    /// Scratch of `run`: the marked bodies faster than the rest speed that
-    /// rapier's sleep timer counts towards sleep (see
-    /// [`Prepare::keep_awake`]).
-    #[cfg_attr(feature = "serde-serialize", serde(skip))]
-    pub awake: Vec<RigidBodyHandle>,
     /// Calm neighbourhoods (`Config::calm_neighbourhoods`).
     calm: Calm,
 }
@@ -118,7 +111,6 @@ impl Prepare {
                     };
                     if rb.linvel().length_squared() > threshold * threshold {
                         fast += usize::from(rb.is_dynamic());
-                        self.keep_awake(input, handle, rb);
                         self.prepare_rb(handle, rb, colliders, marks, mode, threshold);
                     } else if exact {
                         self.starts.store(handle, rb.translation());
@@ -165,35 +157,30 @@ impl Prepare {
         calm_bodies
     }
 
-    /// Restart the sleep timer of the bodies [`Prepare::run`] noted in
-    /// [`Prepare::awake`] (rapier's `wake_up(true)`), so that rapier never
-    /// puts a marked body to sleep while it moves faster than the rest
-    /// speed. A body at rest (a settled pile) is never noted and sleeps as
-    /// rapier lets it.
-    pub(crate) fn wake_moving(&mut self, bodies: &mut RigidBodySet) {
-        for handle in self.awake.drain(..) {
-            if let Some(rb) = bodies.get_mut(handle) {
+    /// Restart the sleep timer (rapier's `wake_up(true)`) of every body
+    /// flagged this step that moves faster than `rest_speed` and whose
+    /// timer runs, so that rapier never puts a marked body to sleep (and
+    /// zeroes its velocity) while it moves faster than the rest speed. A
+    /// body at rest (a settled pile) is never flagged and sleeps as rapier
+    /// lets it. Reads only the flagged bodies; allocates nothing.
+    pub(crate) fn wake_moving(
+        &self,
+        bodies: &mut RigidBodySet,
+        colliders: &ColliderSet,
+        rest_speed: Real,
+    ) {
+        for &ch in &self.flagged {
+            let Some(handle) = colliders.get(ch).and_then(|co| co.parent()) else {
+                continue;
+            };
+            let runs = bodies.get(handle).is_some_and(|rb| {
+                rb.is_dynamic()
+                    && rb.activation().time_since_can_sleep > 0.0
+                    && rb.linvel().length_squared() > rest_speed * rest_speed
+            });
+            if runs && let Some(rb) = bodies.get_mut(handle) {
                 rb.wake_up(true);
             }
-        }
-    }
-
-    /// Note body `rb` for [`Prepare::awake`] if it is a dynamic body with a
-    /// marked collider, faster than the rest speed, whose sleep timer runs
-    /// (rapier counts a body slower than its activation threshold towards
-    /// sleep and zeroes its velocity when it falls asleep: a marked body
-    /// still moving faster than the rest speed would lose its energy and
-    /// momentum). Only bodies whose timer runs are noted: a fast body's
-    /// timer is already zero.
-    fn keep_awake(&mut self, input: &PrepareInput, handle: RigidBodyHandle, rb: &RigidBody) {
-        let rest = input.frame.rest_speed;
-        if input.keep_moving_awake
-            && rb.activation().time_since_can_sleep > 0.0
-            && rb.is_dynamic()
-            && rb.linvel().length_squared() > rest * rest
-            && rb.colliders().iter().any(|&ch| input.marks.contains(ch))
-        {
-            self.awake.push(handle);
         }
     }
 
@@ -277,9 +264,6 @@ impl Prepare {
                     continue;
                 };
                 let is_fast = rb.linvel().length_squared() > threshold * threshold;
-                if is_fast {
-                    self.keep_awake(input, handle, rb);
-                }
                 if exact {
                     self.starts.store(handle, rb.translation());
                 }

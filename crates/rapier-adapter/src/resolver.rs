@@ -389,10 +389,12 @@ impl Kimpact {
             mode,
             fixed_partners: self.config.fixed_partners,
             calm_neighbourhoods: self.config.calm_neighbourhoods,
-            keep_moving_awake: self.config.keep_moving_awake,
         };
         self.log.stats.calm_bodies += self.prepare.run(&input, colliders);
-        self.prepare.wake_moving(bodies);
+        if self.config.keep_moving_awake && mode != Mode::Native {
+            self.prepare
+                .wake_moving(bodies, colliders, frame.rest_speed);
+        }
         if matches!(mode, Mode::Impulse | Mode::Restitution) {
             // Impulse: the law on every impact seen coming. Restitution: only
             // on those of fast bodies, which rapier could let pass.
