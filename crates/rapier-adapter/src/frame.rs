@@ -14,6 +14,8 @@ pub(crate) struct StepFrame {
     pub prediction: Real,
     /// Approach speeds at or below this are resting contacts.
     pub rest_speed: Real,
+    /// `|g| dt`: the approach speed gravity can add over the step.
+    pub gravity_speed: Real,
 }
 
 impl StepFrame {
@@ -25,11 +27,13 @@ impl StepFrame {
         rest_speed: Option<Real>,
     ) -> Self {
         let dt = params.dt;
+        let g = gravity.length();
         Self {
             gravity,
             dt,
             prediction: params.prediction_distance(),
-            rest_speed: rest_speed.unwrap_or(2.0 * gravity.length() * dt),
+            rest_speed: rest_speed.unwrap_or(2.0 * g * dt),
+            gravity_speed: g * dt,
         }
     }
 

@@ -73,9 +73,7 @@ impl PhysicsHooks for StepHooks<'_> {
         {
             return;
         }
-        let (dt, rest_speed) = (frame.dt, frame.rest_speed);
-        // The approach speed gravity can add over the step.
-        let margin = frame.gravity.length() * dt;
+        let (dt, rest_speed, margin) = (frame.dt, frame.rest_speed, frame.gravity_speed);
         let (bodies, colliders) = (context.bodies, context.colliders);
         let (rb1, rb2) = (context.rigid_body1, context.rigid_body2);
         let b1 = law_body(bodies, context.rigid_body1);

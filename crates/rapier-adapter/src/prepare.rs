@@ -238,6 +238,7 @@ impl Prepare {
                     dt,
                     prediction,
                     rest_speed,
+                    ..
                 },
             marks,
             mode,

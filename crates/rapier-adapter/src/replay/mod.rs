@@ -454,6 +454,7 @@ impl Replay {
             dt,
             rest_speed,
             prediction,
+            ..
         } = input.frame;
         // Impulse mode takes every governed pair of the narrow phase;
         // restitution only the fast bodies' sweeps.
@@ -540,6 +541,7 @@ impl Replay {
             dt,
             rest_speed,
             prediction,
+            ..
         } = input.frame;
         if !self.begin(Phase::Post, gravity, dt, rest_speed) {
             return;
