@@ -11,6 +11,7 @@ mod d2 {
     }
     include!("cases/adapter.rs");
     include!("cases/contract.rs");
+    include!("cases/user_worlds.rs");
 }
 
 mod d3 {
@@ -21,6 +22,7 @@ mod d3 {
     }
     include!("cases/adapter.rs");
     include!("cases/contract.rs");
+    include!("cases/user_worlds.rs");
 }
 
 mod d2_f64 {
@@ -31,6 +33,7 @@ mod d2_f64 {
     }
     include!("cases/adapter.rs");
     include!("cases/contract.rs");
+    include!("cases/user_worlds.rs");
     include!("cases/soak.rs");
     include!("cases/long.rs");
 
@@ -48,6 +51,7 @@ mod d3_f64 {
     }
     include!("cases/adapter.rs");
     include!("cases/contract.rs");
+    include!("cases/user_worlds.rs");
     include!("cases/soak.rs");
     include!("cases/long.rs");
 

@@ -371,8 +371,7 @@ impl Balance {
                     "energy created, which no mode should do"
                 } else {
                     "energy lost in rapier's contacts (restitution below 1, friction, resting or \
-                     simultaneous contacts), to sleeping bodies, to rapier's speed cap, or by an \
-                     impact's velocity change under gravity"
+                     simultaneous contacts), to sleeping bodies, or to rapier's speed cap"
                 },
             ));
         }

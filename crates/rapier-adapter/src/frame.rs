@@ -1,7 +1,7 @@
 //! The constants of one step, fixed when it is prepared.
 
 use crate::math::{Real, Vector};
-use crate::rapier::prelude::IntegrationParameters;
+use crate::rapier::prelude::{IntegrationParameters, RigidBody};
 
 /// What a step's stages share: taken from rapier's gravity and integration
 /// parameters by [`crate::Kimpact::before_step`].
@@ -16,6 +16,8 @@ pub(crate) struct StepFrame {
     pub rest_speed: Real,
     /// `|g| dt`: the approach speed gravity can add over the step.
     pub gravity_speed: Real,
+    /// rapier's substeps per step (`num_solver_iterations`, at least 1).
+    pub substeps: usize,
 }
 
 impl StepFrame {
@@ -34,7 +36,20 @@ impl StepFrame {
             prediction: params.prediction_distance(),
             rest_speed: rest_speed.unwrap_or(2.0 * g * dt),
             gravity_speed: g * dt,
+            substeps: params.num_solver_iterations.max(1),
         }
+    }
+
+    /// Half of body `rb`'s substep, `dt / (2 N)`: rapier integrates a body
+    /// in `N` substeps (`num_solver_iterations` plus the body's
+    /// `additional_solver_iterations`), each `v += g h; x += v h` with
+    /// `h = dt / N`. Its positions then lie on the parabola of gravity
+    /// whose velocity is `v + g h / 2` at the same instants: the velocity
+    /// whose kinetic energy, with `−m g·x`, rapier's integrator conserves
+    /// in free flight.
+    pub(crate) fn half_substep(&self, rb: &RigidBody) -> Real {
+        let substeps = self.substeps + rb.additional_solver_iterations();
+        self.dt / (2.0 * substeps as Real)
     }
 
     /// `g dt`: what rapier adds to a dynamic body's velocity this step.

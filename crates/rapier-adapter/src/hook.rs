@@ -10,6 +10,7 @@ use crate::frame::StepFrame;
 use crate::marks::Marks;
 use crate::math::{Real, Vector};
 use crate::mode::Mode;
+use crate::prepare::Prepare;
 use crate::rapier::prelude::*;
 
 /// The [`PhysicsHooks`] of one step, from [`crate::Kimpact::hooks`]: pass it
@@ -28,6 +29,8 @@ pub struct StepHooks<'a> {
     /// Per collider index: whether `MODIFY_SOLVER_CONTACTS` is set by
     /// kimpact (not by the user).
     pub(crate) ours: &'a [bool],
+    /// Which flagged colliders touch something this step.
+    pub(crate) prepare: &'a Prepare,
     pub(crate) fixed_partners: bool,
     pub(crate) candidates: &'a Candidates,
     /// Pairs cut off by the runtime guard this step.
@@ -113,12 +116,18 @@ impl PhysicsHooks for StepHooks<'_> {
         // the bodies' real paths pass each other (a graze), and bounces it
         // ("ghost" collisions; in impulse mode these are the pairs the pass
         // before the step found not meeting). Such a pair keeps no contact
-        // this step: it is apart now and does not meet on its path.
+        // this step: it is apart now and does not meet on its path. Unless
+        // either collider touches something else: rapier's solver may then
+        // push its body off that path (a ball in a landing pile, bounced up
+        // by the balls under it, into one falling onto it), and only the
+        // contact keeps the two apart.
         let reach = (approach + margin) * dt;
         if self.mode != Mode::Exact
             && approach > rest_speed
             && dist > 0.0
             && dist <= reach
+            && !self.prepare.is_crowded(c1)
+            && !self.prepare.is_crowded(c2)
             && !self.meets(&frame, bodies, colliders, c1, c2, rb1, rb2)
         {
             rigid.solver_contacts.clear();

@@ -21,18 +21,51 @@ pub(crate) struct Marks {
     /// length test per law it asks for).
     #[cfg_attr(feature = "serde-serialize", serde(default))]
     materials: Vec<Option<Material>>,
+    /// By collider index, whether a marked collider is not a ball centred
+    /// on its body (see [`is_point_collider`]); empty while every marked
+    /// collider is one (a scene of balls pays one length test per pair).
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    extended: Vec<bool>,
+}
+
+/// Whether the law can govern collider `co` on a dynamic body: a ball
+/// centred on its body's origin (or a ball without a body). The law moves
+/// bodies as points (it changes linear velocities only, along the normal
+/// through both centres); any other shape, or a ball off its body's
+/// centre, turns under an impact, which the law does not know.
+pub(crate) fn is_point_collider(co: &Collider) -> bool {
+    let Some(ball) = co.shape().as_ball() else {
+        return false;
+    };
+    co.position_wrt_parent()
+        .is_none_or(|local| local.translation.length() <= 1e-4 * ball.radius)
 }
 
 impl Marks {
     /// Mark `handle` (the caller has checked it is in the collider set, so
-    /// its index is bounded by the set's size).
-    pub(crate) fn insert(&mut self, handle: ColliderHandle) {
+    /// its index is bounded by the set's size); `point`: whether it is a
+    /// point collider ([`is_point_collider`]).
+    pub(crate) fn insert(&mut self, handle: ColliderHandle, point: bool) {
         let (index, generation) = handle.into_raw_parts();
         let index = index as usize;
         if self.tags.len() <= index {
             self.tags.resize(index + 1, 0);
         }
         self.tags[index] = generation.wrapping_add(1);
+        if !point && self.extended.len() <= index {
+            self.extended.resize(index + 1, false);
+        }
+        if let Some(e) = self.extended.get_mut(index) {
+            *e = !point;
+        }
+    }
+
+    /// Whether marked collider `handle` is not a point collider.
+    pub(crate) fn is_extended(&self, handle: ColliderHandle) -> bool {
+        self.extended
+            .get(handle.into_raw_parts().0 as usize)
+            .copied()
+            .unwrap_or(false)
     }
 
     /// Unmark `handle`; whether it was marked. A handle of another
@@ -44,6 +77,9 @@ impl Marks {
                 *m = 0;
                 if let Some(slot) = self.materials.get_mut(index as usize) {
                     *slot = None;
+                }
+                if let Some(e) = self.extended.get_mut(index as usize) {
+                    *e = false;
                 }
                 true
             }
@@ -96,7 +132,9 @@ impl Marks {
     }
 
     /// Whether the law governs the pair: both marked, or one marked and the
-    /// other immovable (when `fixed_partners`).
+    /// other immovable (when `fixed_partners`); and every marked collider of
+    /// a dynamic body in it a point collider (the pairs of any other are
+    /// rapier's, as if it were not marked).
     pub(crate) fn governs(
         &self,
         fixed_partners: bool,
@@ -106,6 +144,12 @@ impl Marks {
         c2: ColliderHandle,
     ) -> bool {
         let (m1, m2) = (self.contains(c1), self.contains(c2));
+        if !self.extended.is_empty()
+            && ((m1 && self.turns(colliders, bodies, c1))
+                || (m2 && self.turns(colliders, bodies, c2)))
+        {
+            return false;
+        }
         if m1 && m2 {
             return true;
         }
@@ -118,5 +162,16 @@ impl Marks {
             Some(rb) => !rb.is_dynamic(),
             None => true,
         }
+    }
+
+    /// Whether marked collider `c` is extended (not a point collider) on a
+    /// dynamic body.
+    fn turns(&self, colliders: &ColliderSet, bodies: &RigidBodySet, c: ColliderHandle) -> bool {
+        self.is_extended(c)
+            && colliders
+                .get(c)
+                .and_then(|co| co.parent())
+                .and_then(|h| bodies.get(h))
+                .is_some_and(|rb| rb.is_dynamic())
     }
 }

@@ -44,6 +44,9 @@ pub(crate) struct Prepare {
     previous: Vec<ColliderHandle>,
     /// Per collider index: the step (`epoch`) at which it was last flagged.
     seen: Vec<u32>,
+    /// Per collider index: the step (`epoch`) at which it was flagged while
+    /// touching something (see [`Prepare::find_crowded`]).
+    crowded: Vec<u32>,
     epoch: u32,
     /// Colliders marked since the last step: their bodies may not be in
     /// rapier's active set yet (inserted, or woken, since the last step).
@@ -155,6 +158,33 @@ impl Prepare {
         }
         self.previous.clear();
         calm_bodies
+    }
+
+    /// Note which flagged colliders touch something (an active contact in
+    /// rapier's narrow phase of the last step): rapier's solver may push
+    /// their bodies off the straight path the hook would judge a graze on
+    /// (see [`Prepare::is_crowded`]). Reads only the flagged colliders'
+    /// contacts; allocates nothing in steady state.
+    pub(crate) fn find_crowded(&mut self, narrow_phase: &NarrowPhase) {
+        for &ch in &self.flagged {
+            if narrow_phase
+                .contact_pairs_with(ch)
+                .any(|cp| cp.has_any_active_contact())
+            {
+                let index = ch.into_raw_parts().0 as usize;
+                if self.crowded.len() <= index {
+                    self.crowded.resize(index + 1, 0);
+                }
+                self.crowded[index] = self.epoch;
+            }
+        }
+    }
+
+    /// Whether flagged collider `ch` touched something at the start of this
+    /// step ([`Prepare::find_crowded`]).
+    pub(crate) fn is_crowded(&self, ch: ColliderHandle) -> bool {
+        let index = ch.into_raw_parts().0 as usize;
+        self.crowded.get(index) == Some(&self.epoch)
     }
 
     /// Restart the sleep timer (rapier's `wake_up(true)`) of every body
@@ -296,7 +326,9 @@ impl Prepare {
     ) -> bool {
         let mut any_marked = false;
         for &ch in rb.colliders() {
-            if !marks.contains(ch) {
+            // An extended collider on a dynamic body is rapier's (see
+            // `Marks::governs`): no hook for it.
+            if !marks.contains(ch) || marks.is_extended(ch) {
                 continue;
             }
             any_marked = true;

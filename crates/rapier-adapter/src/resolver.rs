@@ -179,6 +179,13 @@ impl Kimpact {
     /// until the collider's body moves; marking a marked collider again
     /// changes nothing.
     ///
+    /// The law moves bodies as points, so it governs a dynamic body's
+    /// collider only if it is a ball centred on the body's origin (read
+    /// when marking: mark again after changing the shape). A marked
+    /// collider of any other shape on a dynamic body keeps rapier's own
+    /// response, with its own restitution, as if it were not marked; as a
+    /// fixed or kinematic partner any shape follows the law.
+    ///
     /// # Errors
     /// [`HandleError::UnknownCollider`] when `collider` is not in
     /// `colliders` (never inserted, removed, stale generation, invalid):
@@ -188,10 +195,11 @@ impl Kimpact {
         colliders: &ColliderSet,
         collider: ColliderHandle,
     ) -> Result<(), HandleError> {
-        if !colliders.contains(collider) {
+        let Some(co) = colliders.get(collider) else {
             return Err(HandleError::UnknownCollider(collider));
-        }
-        self.marks.insert(collider);
+        };
+        self.marks
+            .insert(collider, crate::marks::is_point_collider(co));
         self.prepare.pending.push(collider);
         Ok(())
     }
@@ -396,6 +404,9 @@ impl Kimpact {
                 .wake_moving(bodies, colliders, frame.rest_speed);
         }
         if matches!(mode, Mode::Impulse | Mode::Restitution) {
+            self.prepare.find_crowded(narrow_phase);
+        }
+        if matches!(mode, Mode::Impulse | Mode::Restitution) {
             // Impulse: the law on every impact seen coming. Restitution: only
             // on those of fast bodies, which rapier could let pass.
             let input = ReplayInput {
@@ -448,6 +459,7 @@ impl Kimpact {
             mode: self.prepared.map_or(Mode::Native, |p| p.mode),
             marks: &self.marks,
             ours: &self.prepare.ours,
+            prepare: &self.prepare,
             fixed_partners: self.config.fixed_partners,
             candidates: &self.candidates,
             guarded: &self.guarded,

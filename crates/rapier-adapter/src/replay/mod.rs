@@ -71,6 +71,11 @@ struct Node {
     /// What gravity adds to the body's velocity over the step (`g s dt`,
     /// with its gravity scale `s`; zero for non-dynamic bodies).
     g_dt: Vector,
+    /// Gravity over half the body's substep (`g s h / 2`, see
+    /// [`StepFrame::half_substep`]; zero for non-dynamic bodies): what
+    /// separates rapier's velocity from the velocity of the parabola its
+    /// substeps put the body on.
+    g_half: Vector,
     expanded: bool,
     hit: bool,
     /// The last box swept for one of the node's colliders this run: a later
@@ -91,15 +96,24 @@ impl Node {
         self.p + self.v * (t - self.t_ref)
     }
 
-    /// The velocity the law meets the body with at time `t`. After the
-    /// step, `u` is the velocity at its end: the law meets the bodies at
-    /// `t`, before gravity's share of the rest of the step (which they keep
-    /// afterwards). Against a fixed partner this is what keeps a bouncing
-    /// ball from gaining `m g dt` of momentum, and energy, at every bounce.
+    /// The velocity the law meets the body with at time `t`: the velocity,
+    /// at `t`, of the parabola rapier's substeps put the body on (rapier's
+    /// velocity plus gravity over half a substep, [`Node::g_half`]). After
+    /// the step, `u` is the velocity at its end: the law meets the bodies
+    /// at `t`, before gravity's share of the rest of the step (which they
+    /// keep afterwards). Before it, rapier moves a body from the start of
+    /// the step with the velocity it is given, so the law meets it there.
+    ///
+    /// Between two bodies under the same gravity the offsets cancel (the
+    /// law conserves momentum); against a fixed partner they are what
+    /// keeps a bounce elastic: rapier's integrator conserves
+    /// `½ m |v + g h/2|² − m g·x` in free flight, so a law that reversed `v`
+    /// itself would change the next flight's energy by `m h g·Δv / 2`
+    /// (a lower apex at every bounce).
     fn law_velocity(&self, phase: Phase, t: Real, dt: Real) -> Vector {
         match phase {
-            Phase::Post => self.u - self.g_dt * ((dt - t) / dt),
-            Phase::Pre => self.u,
+            Phase::Post => self.u - self.g_dt * ((dt - t) / dt) + self.g_half,
+            Phase::Pre => self.u + self.g_half,
         }
     }
 
@@ -717,8 +731,16 @@ impl Replay {
             }
             out.log.push(&candidate, t, pair.point, &impact, false);
             // Chains: neighbours of both bodies, then fresh predictions for
-            // every pair of the two bodies from now on.
-            let from = t.max(0.0);
+            // every pair of the two bodies from now on. Before the step, a
+            // bent body's line starts again at the start of the step (that
+            // is how rapier will move it): its pairs are predicted on the
+            // whole new line, so that a meeting on it is found where the
+            // two first touch (with that normal), even before this
+            // instant, rather than as an overlap now.
+            let from = match self.phase {
+                Phase::Post => t.max(0.0),
+                Phase::Pre => 0.0,
+            };
             instant = from;
             for n in [pair.a, pair.b] {
                 if self.nodes[n].dynamic {

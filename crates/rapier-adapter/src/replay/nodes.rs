@@ -97,6 +97,8 @@ impl Replay {
                     u,
                     t_ref: 0.0,
                     g_dt: self.gravity_dt * rb.gravity_scale(),
+                    g_half: input.frame.gravity
+                        * (rb.gravity_scale() * input.frame.half_substep(rb)),
                     expanded: false,
                     hit: false,
                     swept: None,
@@ -134,6 +136,8 @@ impl Replay {
                     u: v1,
                     t_ref: 0.0,
                     g_dt: self.gravity_dt * rb.gravity_scale(),
+                    g_half: input.frame.gravity
+                        * (rb.gravity_scale() * input.frame.half_substep(rb)),
                     expanded: false,
                     hit: false,
                     swept: None,
@@ -155,6 +159,7 @@ impl Replay {
                     // rapier's step, its start before it.
                     t_ref: if self.phase == Phase::Pre { 0.0 } else { dt },
                     g_dt: Vector::ZERO,
+                    g_half: Vector::ZERO,
                     expanded: true,
                     hit: false,
                     swept: None,
@@ -171,6 +176,7 @@ impl Replay {
                 u: Vector::ZERO,
                 t_ref: dt,
                 g_dt: Vector::ZERO,
+                g_half: Vector::ZERO,
                 expanded: true,
                 hit: false,
                 swept: None,

@@ -1,0 +1,178 @@
+// The law's promises in the worlds users build (rapier's defaults, gravity,
+// non-ball shapes, very fast balls, overlapping spawns), written once for
+// 2D/3D and f32/f64 (included by tests/adapter.rs).
+
+/// Relative rounding of one step's energy.
+const ROUNDING: f64 = if std::mem::size_of::<Real>() == 4 { 1e-5 } else { 1e-9 };
+
+/// The energy per unit mass of the flight of a ball rapier integrates under
+/// gravity `g` (pointing along −y), measured from the height `contact` at
+/// which it touches the floor: `½ |v + g h/2|² + |g| (y − contact)`, with
+/// `h` rapier's substep. rapier's substeps put the ball on a parabola whose
+/// velocity is `v + g h/2` at the step ends, so this is constant over a
+/// free flight and `|g|` times the height of its apex above the contact.
+fn flight_energy(w: &TestWorld, b: RigidBodyHandle, contact: f64) -> f64 {
+    let params = &w.world.integration_parameters;
+    let h = f64::from(params.dt) / params.num_solver_iterations as f64;
+    let g = -f64::from(w.world.gravity.y);
+    let (v, y) = (w.vel(b), f64::from(w.pos(b).y));
+    let speed_sq: f64 = (0..DIM)
+        .map(|a| {
+            let c = f64::from(v[a]) - if a == 1 { 0.5 * g * h } else { 0.0 };
+            c * c
+        })
+        .sum();
+    0.5 * speed_sq + g * (y - contact)
+}
+
+/// A frictionless ball dropped from 4.5 m onto a fixed floor under the law
+/// with wall dissipation `wall`, for 1,200 steps: the energy of each flight
+/// ([`flight_energy`]) while the ball is clear of the floor, one list per
+/// flight.
+fn bounce_flights(mode: Mode, wall: Real) -> Vec<Vec<f64>> {
+    let mut w = TestWorld::new(mode, 0.0, Vector::Y * -9.81);
+    w.kimpact
+        .set_law(LawParams {
+            wall_dissipation: Some(wall),
+            ..Default::default()
+        })
+        .unwrap();
+    w.wall(Vector::Y * -5.5, Vector::splat(5.0));
+    let radius = 0.5;
+    let (b, _) = w.ball(Vector::Y * 4.5, Vector::ZERO, radius, 1.0);
+    let contact = -0.5 + f64::from(radius);
+    let mut flights: Vec<Vec<f64>> = vec![vec![flight_energy(&w, b, contact)]];
+    let mut falling = true;
+    for _ in 0..1200 {
+        w.step();
+        let vy = w.vel(b).y;
+        if falling && vy > 0.0 {
+            flights.push(Vec::new());
+        }
+        falling = vy <= 0.0;
+        // Clear of the floor by more than rapier's contact reach and a step.
+        if f64::from(w.pos(b).y) - contact > 0.25 {
+            flights.last_mut().unwrap().push(flight_energy(&w, b, contact));
+        }
+    }
+    flights.retain(|f| !f.is_empty());
+    flights
+}
+
+/// Issue 21.2: an elastic bounce under gravity keeps the apex to rounding in
+/// exact and impulse mode, and `wall_dissipation` `d̃w` multiplies it by
+/// `e² = 1 − 2 d̃w`. Exact mode meets the floor on the straight line between
+/// the step's ends, which is off rapier's parabola by at most `g dt²/8`: the
+/// dissipated share of the apex is off by at most `(1 − e²) g² dt²/8` of
+/// the flight's energy. Impulse mode resolves the impact at the start of
+/// the step it happens in, with the ball still up to a step's travel above
+/// the floor: off by at most `(1 − e²) g (|v| + g dt) dt` of it.
+#[test]
+fn a_bounce_under_gravity_keeps_its_apex() {
+    let (g, dt) = (9.81, 1.0 / 60.0);
+    for mode in [Mode::Impulse, Mode::Exact] {
+        for wall in [0.0, 0.1] {
+            let e2 = 1.0 - 2.0 * f64::from(wall);
+            let flights = bounce_flights(mode, wall);
+            assert!(flights.len() >= 10, "{mode}, d̃w = {wall}: {} flights", flights.len());
+            for (i, f) in flights.iter().enumerate() {
+                let (lo, hi) = f.iter().fold((f64::MAX, f64::MIN), |(a, b), &x| (a.min(x), b.max(x)));
+                assert!(
+                    hi - lo <= ROUNDING * hi,
+                    "{mode}, d̃w = {wall}: flight {i} is not free ({lo} to {hi})"
+                );
+            }
+            for pair in flights.windows(2) {
+                let (before, after) = (pair[0][0], pair[1][0]);
+                let speed = (2.0 * before).sqrt();
+                let off = match mode {
+                    Mode::Exact => (1.0 - e2) * g * g * dt * dt / 8.0,
+                    _ => (1.0 - e2) * g * (speed + g * dt) * dt,
+                } / before;
+                let ratio = after / before;
+                assert!(
+                    (ratio - e2).abs() <= off + 4.0 * ROUNDING,
+                    "{mode}, d̃w = {wall}: apex ratio {ratio}, e² = {e2} (bound {off:e})"
+                );
+            }
+        }
+    }
+}
+
+/// The corners of a box of half-extents `half` (bit `a` of the index: the
+/// sign along axis `a`).
+fn box_corners(half: Vector) -> Vec<Vector> {
+    (0..(1usize << DIM))
+        .map(|i| {
+            let mut v = Vector::ZERO;
+            for a in 0..DIM {
+                v[a] = if i >> a & 1 == 1 { half[a] } else { -half[a] };
+            }
+            v
+        })
+        .collect()
+}
+
+/// A collider of every kind of shape the law cannot move as a point: a
+/// cuboid, a capsule, a convex hull, a triangle mesh, and a ball off its
+/// body's centre.
+fn extended_shapes() -> Vec<(&'static str, ColliderBuilder)> {
+    let half = Vector::splat(0.3) + Vector::X * 0.2;
+    let mut hull = box_corners(half);
+    for (i, c) in hull.iter_mut().enumerate() {
+        *c *= 1.0 + 0.15 * (i % 3) as Real;
+    }
+    let indices: Vec<[u32; 3]> = if DIM == 2 {
+        vec![[0, 1, 3], [0, 3, 2]]
+    } else {
+        vec![
+            [0, 4, 6], [0, 6, 2], [1, 3, 7], [1, 7, 5], [0, 1, 5], [0, 5, 4],
+            [2, 6, 7], [2, 7, 3], [0, 2, 3], [0, 3, 1], [4, 5, 7], [4, 7, 6],
+        ]
+    };
+    vec![
+        ("cuboid", k::math::cuboid(half)),
+        ("capsule", ColliderBuilder::capsule_y(0.3, 0.25)),
+        ("convex hull", ColliderBuilder::convex_hull(&hull).unwrap()),
+        ("trimesh", ColliderBuilder::trimesh(box_corners(half), indices).unwrap()),
+        ("offset ball", ColliderBuilder::ball(0.3).translation(Vector::Y * 0.1)),
+    ]
+}
+
+/// Issue 21.3: a marked collider the law cannot move as a point (any shape
+/// but a ball centred on its body) keeps rapier's own response: in every
+/// law mode the world is bit for bit the one in which it is not marked,
+/// while the marked ball in it still follows the law (it meets a wall).
+#[test]
+fn a_marked_non_ball_body_keeps_rapier_s_response() {
+    for mode in [Mode::Restitution, Mode::Impulse, Mode::Exact] {
+        for (name, shape) in extended_shapes() {
+            let run = |mark_shape: bool| {
+                let mut w = TestWorld::new(mode, 0.0, Vector::ZERO);
+                w.closed_box(2.0, 0.5);
+                let mut v = Vector::X * 3.0;
+                v[1] = 0.4;
+                let mut p = Vector::X * -1.2;
+                p[1] = 0.1;
+                let body = RigidBodyBuilder::dynamic()
+                    .translation(p)
+                    .linvel(v)
+                    .can_sleep(false);
+                let collider = shape.clone().mass(1.0).friction(0.0).restitution(1.0);
+                let (b, c) = w.world.insert(body, collider);
+                if mark_shape {
+                    w.kimpact.mark(&w.world.colliders, c).unwrap();
+                }
+                let (ball, _) = w.ball(Vector::X * 0.5, Vector::Y * 2.0, 0.3, 1.0);
+                for _ in 0..300 {
+                    w.step();
+                }
+                (w.bits(&[b, ball]), w.kimpact.stats().impacts)
+            };
+            let (marked, impacts) = run(true);
+            let (unmarked, _) = run(false);
+            assert_eq!(marked, unmarked, "{mode}, {name}: marking changed rapier's response");
+            assert!(impacts > 0, "{mode}, {name}: the ball met no wall under the law");
+        }
+    }
+}
