@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The cost of one step of a scene, counted by cachegrind rather than timed:
 # deterministic, so an A/B of two builds is not lost in this shared host's
-# noise (timings of one binary vary by 10-20% from run to run here).
+# noise (timings of one binary vary from run to run here).
 #
 #   crates/kimpact-bench/cachegrind-step.sh BIN SCENE MODE BALLS [PRECISION]
 #
@@ -11,8 +11,8 @@
 # (environment, default 20 and 40), and prints per step, from the
 # difference: instructions, L1 misses, L2 misses, and an estimate in cycles,
 # Ir + 10 L1 + 100 L2 (cachegrind's usual weights). The last level is modelled
-# as this machine's 4 MB L2, not its 105 MB L3 (which holds every scene, so
-# would show no misses). A model: no prefetcher, no out-of-order overlap.
+# as a 4 MB L2, not the host's large L3 (which holds every scene, so would
+# show no misses). A model: no prefetcher, no out-of-order overlap.
 # Use it to compare builds, not as a ratio to native.
 set -euo pipefail
 if [ $# -lt 4 ]; then

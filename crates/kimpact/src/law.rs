@@ -362,8 +362,8 @@ impl<T: RealField + Copy, const D: usize> Impact<T, D> {
 
     /// The kinetic energy of `a` and `b` (the bodies this impact was
     /// resolved with) before and after it. Computed on demand, not by
-    /// [`Law::resolve`]: the adapters never need it, and it is a third of
-    /// the cost of an impact. `before − after` equals
+    /// [`Law::resolve`]: the adapters never need it, and computing it for
+    /// every impact would slow each one. `before − after` equals
     /// [`dissipated`](Self::dissipated) up to rounding; the energies can
     /// overflow where `|v|²` leaves the type's range.
     pub fn energies(&self, a: &Body<T, D>, b: &Body<T, D>) -> Energies<T> {

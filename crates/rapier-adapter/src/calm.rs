@@ -5,10 +5,9 @@
 //! closing faster than the rest speed. `prepare` flags a body faster than
 //! half the rest speed, so that two unflagged bodies never close faster than
 //! the rest speed. In a pile that creeps or falls as a whole, most bodies are
-//! that fast while every neighbour moves with them (the 10,000-ball 2D pit
-//! after its landing: 89% of the balls, of which one in nine has a
-//! neighbour more than the rest speed apart in velocity), and each hooked
-//! body costs rapier its contact recycling.
+//! that fast while every neighbour moves with them (a 2D pile creeps long
+//! after it has landed), and each hooked body costs rapier its contact
+//! recycling.
 //!
 //! This test keeps the guarantee with relative velocities. Every governed
 //! collider a fast body could touch this step is found from boxes: each
@@ -41,9 +40,9 @@
 //! are fewer than a tenth of the members) when a try leaves fewer
 //! than one in eight fast bodies calm or keeps fewer pairs in contact reach
 //! unhooked than a third of the members: what it saves is rapier's
-//! recycling of such pairs, and in a gas, where contacts are rare, it cost
-//! more than that (exact mode, 10,000 balls, 2D: 1.69x native with it,
-//! 1.48x without).
+//! recycling of such pairs, and in a gas, where contacts are rare, a try
+//! costs more than it saves (the bench's `--no-calm` measures the test
+//! against none).
 //!
 //! Limit: a collider the user moved (teleported) since the last step, if
 //! its body is fixed or asleep, is found where rapier's broad phase last saw
@@ -173,8 +172,8 @@ impl Calm {
     /// The longest back-off, in steps, after a try that came close to
     /// paying (at least one kept pair per `FAR` members)...
     const MAX_WAIT: u32 = 16;
-    /// ...and after one that did not (a gas keeps none: there a try every
-    /// 16 steps cost 1% of the exact step, by cachegrind).
+    /// ...and after one that did not (a gas keeps none, so every try there
+    /// is pure cost).
     const MAX_WAIT_FAR: u32 = 64;
     const FAR: usize = 10;
     /// A box is tested one by one when its largest side exceeds this many

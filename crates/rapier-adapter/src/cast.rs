@@ -3,7 +3,7 @@
 //!
 //! Two balls are cast here in closed form (a quadratic, solved without
 //! cancellation; parry's own is exact too, but goes through its shape
-//! dispatch, a tenth of the replay's time in a ball pit). A
+//! dispatch, which a pile's many ball–ball casts would pay each time). A
 //! ball against a cuboid (a ball on a floor or against a wall: most of the
 //! casts in a pile) goes through GJK, and when the pair starts in contact
 //! (a resting ball touches its floor at every step) through EPA, which

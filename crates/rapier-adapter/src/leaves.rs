@@ -9,8 +9,8 @@ use crate::sweep_grid::SweepGrid;
 /// The boxes of rapier's broad phase (its tree's leaves) in a [`SweepGrid`],
 /// for the single sweeps of a run that makes many: the re-sweeps after
 /// impacts in a settling pile (one per impact that sets a ball moving
-/// further than rapier's contacts reach; a tree descent from the root each
-/// was a tenth of an exact step of the 10,000-ball 2D pit) and the
+/// further than rapier's contacts reach; a tree descent from the root for
+/// each adds up over a pile's many impacts) and the
 /// sweepers of a run too few for the bulk sweep. Built once a run has made
 /// [`LeafGrid::QUERY_SHARE`]-th as many tree queries as the tree has
 /// leaves (a build costs a pass over the leaves, about as much as that many

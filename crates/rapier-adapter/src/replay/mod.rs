@@ -271,10 +271,9 @@ pub(crate) struct Replay {
     /// For each node, the first and the last pair it is in (`NO_PAIR`
     /// when none): the node's pairs are a list threaded through the pairs
     /// themselves ([`Pair::next`]), in the order they were added. One list
-    /// per node in a vector of its own reallocated in steady state (which
-    /// node a body gets changes from step to step, and a ball's list could
-    /// land in a slot too small for it: 100 allocations per step in the
-    /// 10,000-ball 3D pit, restitution mode); these need no allocation
+    /// per node in a vector of its own would reallocate in steady state
+    /// (which node a body gets changes from step to step, and a ball's list
+    /// could land in a slot too small for it); these need no allocation
     /// beyond `pairs`' and `nodes`' own.
     ends: Vec<[u32; 2]>,
     /// Each pair's next meeting.

@@ -59,8 +59,8 @@ impl Replay {
 
     /// Colliders `c1` and `c2` are a pair of the replay already (in either
     /// order). Reads only the replay's own arrays: most colliders a sweep
-    /// meets in a pile are paired already (19 of 20 in the 10,000-ball 2D
-    /// pit), and reading them from rapier is a cache miss each.
+    /// meets in a pile are paired already, and reading them from rapier is
+    /// a cache miss each.
     pub(super) fn has_pair(&self, c1: ColliderHandle, c2: ColliderHandle) -> bool {
         let (Some(a), Some(_)) = (self.collider_node(c1), self.collider_node(c2)) else {
             return false;

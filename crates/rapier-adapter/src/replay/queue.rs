@@ -9,15 +9,14 @@ use crate::math::Real;
 /// never depends on the queue's history. A pair's entry is replaced in place
 /// whenever it is predicted again (after every impact of either of its
 /// bodies), so the queue never holds a superseded prediction. In a settling
-/// pile each impact predicts a dozen pairs again: a heap of every
-/// prediction, skipped on the way out when superseded, was 5-11% of an
-/// exact step of the 10,000-ball 2D pit (`perf`).
+/// pile each impact predicts many pairs again, and a heap of every
+/// prediction, skipped on the way out when superseded, would sift through
+/// all the stale ones.
 ///
 /// Two indexed binary min-heaps: the meetings at `now` (the time of the
 /// last entry taken) and all others. A pile resolves most of its impacts at
 /// one instant, and most predictions after such an impact are meetings at
-/// that instant (overlapping pairs still approaching: 99,000 of 113,000
-/// meetings predicted per step in the 10,000-ball 2D pit): they go in the
+/// that instant (overlapping pairs still approaching): they go in the
 /// small heap, a few cache lines, instead of sifting through the large
 /// one. Taking the earlier of the two tops gives the order of one heap.
 #[derive(Default)]

@@ -203,8 +203,8 @@ impl Replay {
     /// [`Replay::sweep_query`] each would, and the few such a query misses.
     /// `false`, having done nothing, if the boxes cannot be gridded (the
     /// caller then sweeps them one query each). One pass over the
-    /// colliders replaces a tree descent per swept collider (a third of an
-    /// exact step in a gas, where every ball is swept).
+    /// colliders replaces a tree descent per swept collider (in a gas every
+    /// ball is swept, and a descent each costs more than the grid).
     pub(super) fn sweep_in_bulk(
         &mut self,
         input: &ReplayInput,
@@ -285,8 +285,7 @@ impl Replay {
         // some inner boxes do not enclose the leaves below them (rapier
         // refits the ancestors of moved leaves lazily), so a query
         // descending from the root can miss a collider whose own box meets
-        // the query's (measured: 2 to 11 of 400 to 870 pairs per step in a
-        // falling pile of 300 balls).
+        // the query's (it happens in a falling pile).
         for_each_leaf(tree, |index, node| {
             if sweeping.get(index as usize) != Some(&self.stamp) {
                 grid.overlaps(&node.aabb(), |s| found.push((s, index)));
