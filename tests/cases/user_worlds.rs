@@ -176,3 +176,41 @@ fn a_marked_non_ball_body_keeps_rapier_s_response() {
         }
     }
 }
+
+/// Issue 21.4: a ball at rapier's speed cap (400 m/s, nearly two box
+/// widths per step) in a closed box stays inside it in every law mode,
+/// without spending the event cap on going back and forth, and keeps its
+/// energy (elastic law and walls); in exact mode so does one at 10 km/s
+/// with rapier's cap lifted. (Before the step, a pair is resolved at most
+/// twice per step: no straight line from the step's start can follow the
+/// ball's bounces, and rapier's contacts hold it then.)
+#[test]
+fn a_ball_at_rapier_s_speed_cap_stays_in_its_box() {
+    for (speed, modes) in [
+        (399.0, &[Mode::Restitution, Mode::Impulse, Mode::Exact][..]),
+        (1e4, &[Mode::Exact][..]),
+    ] {
+        for &mode in modes {
+            let mut w = TestWorld::new(mode, 0.0, Vector::ZERO);
+            w.world.integration_parameters.normalized_max_linear_velocity = 1e7;
+            let half = 2.0;
+            w.closed_box(half, 0.5);
+            let mut v = Vector::X * speed;
+            v[1] = 7.0;
+            let (b, _) = w.ball(Vector::ZERO, v, 0.2, 1.0);
+            let e0 = w.kinetic();
+            for step in 0..60 {
+                w.step();
+                let p = w.pos(b);
+                assert!(
+                    (0..DIM).all(|a| f64::from(p[a].abs()) < f64::from(half)),
+                    "{mode}, {speed} m/s: the ball left the box at step {step}: {p:?}"
+                );
+            }
+            let s = w.kimpact.stats();
+            assert_eq!(s.event_cap_hits, 0, "{mode}, {speed} m/s: the event cap was hit");
+            let e = w.kinetic();
+            assert!((e / e0 - 1.0).abs() <= 4.0 * ROUNDING, "{mode}, {speed} m/s: energy {e0} -> {e}");
+        }
+    }
+}

@@ -157,6 +157,8 @@ struct Pair {
     /// [`Replay::apart`] to be predicted (see [`Replay::defer_if_apart`]);
     /// −∞ when it does not.
     apart_at: Real,
+    /// How many times the law resolved the pair this run.
+    resolved: u32,
     /// The next pair of node `a`'s list and of node `b`'s (`NO_PAIR` at the
     /// end; see [`Replay::ends`]).
     next: [u32; 2],
@@ -175,6 +177,9 @@ mod queue;
 mod sweep;
 
 use queue::PairQueue;
+
+/// Before the step, how many times a pair may be resolved in one run.
+const PRE_REPEATS: u32 = 2;
 
 /// Before the step, how far past its end (relative to `dt`) a meeting is
 /// still taken in this step.
@@ -655,6 +660,14 @@ impl Replay {
                 // predicted again once the instant is over.
                 continue;
             }
+            if self.phase == Phase::Pre && pair.resolved >= PRE_REPEATS {
+                // Back and forth on lines that all start at the step's
+                // start (a ball faster than its box is wide per step): no
+                // straight line rapier could integrate satisfies the pair;
+                // rapier's contacts take it from here.
+                continue;
+            }
+            self.pairs[i].resolved += 1;
             if events >= max_events {
                 out.log.cap_hit();
                 log::warn!(

@@ -235,6 +235,7 @@ impl Replay {
             normal: Vector::ZERO,
             point: Vector::ZERO,
             apart_at: Real::NEG_INFINITY,
+            resolved: 0,
             next: [NO_PAIR; 2],
         });
         for n in [a, b] {
