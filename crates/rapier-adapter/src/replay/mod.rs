@@ -281,6 +281,13 @@ pub(crate) struct Replay {
     /// could land in a slot too small for it); these need no allocation
     /// beyond `pairs`' and `nodes`' own.
     ends: Vec<[u32; 2]>,
+    /// For each node, how many pairs it is in.
+    degrees: Vec<u32>,
+    /// The pairs of crowded nodes (see [`nodes::CROWD`]), by
+    /// [`nodes::pair_key`]: a crowded node's list is too long to walk for
+    /// every pair a sweep or its neighbours bring (kept between runs, so a
+    /// steady state allocates nothing).
+    crowd_pairs: std::collections::HashSet<u64>,
     /// Each pair's next meeting.
     queue: PairQueue,
     /// Scratch of the bulk sweep: the colliders to sweep.
@@ -397,11 +404,13 @@ impl Replay {
         for &ch in rb.colliders() {
             for cp in narrow_phase.contact_pairs_with(ch) {
                 // After the step, only the contacts rapier saw (touching
-                // neighbours); before it, every pair the broad phase keeps.
-                if self.has_pair(cp.collider1, cp.collider2)
-                    || (self.phase == Phase::Post && !cp.has_any_active_contact())
+                // neighbours); before it, every pair the broad phase keeps
+                // that may meet (tested first: a body spawned into a crowd
+                // has a long list of pairs to look the pair up in).
+                if (self.phase == Phase::Post && !cp.has_any_active_contact())
                     || (self.phase == Phase::Pre
                         && !self.may_meet(bodies, colliders, cp.collider1, cp.collider2, dt))
+                    || self.has_pair(cp.collider1, cp.collider2)
                     || !input.marks.governs(
                         config.fixed_partners,
                         colliders,

@@ -3,10 +3,23 @@
 
 use super::*;
 
+/// A node with this many pairs is crowded (a body spawned into others, a
+/// dense pile): whether a pair of it is in the run is looked up in
+/// [`Replay::crowd_pairs`] rather than by walking its list.
+const CROWD: u32 = 32;
+
+/// The pair of colliders `c1` and `c2`, in either order, as one key.
+fn pair_key(c1: ColliderHandle, c2: ColliderHandle) -> u64 {
+    let (i, j) = (c1.into_raw_parts().0, c2.into_raw_parts().0);
+    (u64::from(i.min(j)) << 32) | u64::from(i.max(j))
+}
+
 impl Replay {
     pub(super) fn clear(&mut self) {
         self.nodes.clear();
         self.ends.clear();
+        self.degrees.clear();
+        self.crowd_pairs.clear();
         self.hit.clear();
         self.stamp = self.stamp.wrapping_add(1);
         if self.stamp == 0 {
@@ -62,9 +75,12 @@ impl Replay {
     /// meets in a pile are paired already, and reading them from rapier is
     /// a cache miss each.
     pub(super) fn has_pair(&self, c1: ColliderHandle, c2: ColliderHandle) -> bool {
-        let (Some(a), Some(_)) = (self.collider_node(c1), self.collider_node(c2)) else {
+        let (Some(a), Some(b)) = (self.collider_node(c1), self.collider_node(c2)) else {
             return false;
         };
+        if self.degrees[a].max(self.degrees[b]) >= CROWD {
+            return self.crowd_pairs.contains(&pair_key(c1, c2));
+        }
         self.pairs_of(a).any(|i| {
             let p = &self.pairs[i];
             (p.c1 == c1 && p.c2 == c2) || (p.c1 == c2 && p.c2 == c1)
@@ -187,6 +203,7 @@ impl Replay {
         let i = self.nodes.len();
         self.nodes.push(node);
         self.ends.push([NO_PAIR; 2]);
+        self.degrees.push(0);
         if let Key::Body(h) = key {
             Slot::set(&mut self.body_slots, h.into_raw_parts().0, self.stamp, i);
         }
@@ -248,6 +265,19 @@ impl Replay {
                     self.ends[n][1] = i as u32;
                 }
             }
+            self.degrees[n] += 1;
+            if self.degrees[n] == CROWD {
+                // Crowded from now on: its pairs are looked up in the set.
+                let mut j = self.ends[n][0];
+                while j != NO_PAIR {
+                    let p = &self.pairs[j as usize];
+                    self.crowd_pairs.insert(pair_key(p.c1, p.c2));
+                    j = self.next_pair(j as usize, n);
+                }
+            }
+        }
+        if self.degrees[a].max(self.degrees[b]) >= CROWD {
+            self.crowd_pairs.insert(pair_key(c1, c2));
         }
         Some(i)
     }
@@ -270,8 +300,9 @@ impl Replay {
 
     /// Before the step, a cheap test that colliders `c1` and `c2` cannot
     /// have an impact this step: their velocities differ by no more than the
-    /// rest speed (the law would leave them to rapier), or their bounding
-    /// spheres stay apart on the bodies' current lines. A node whose velocity
+    /// rest speed (the law would leave them to rapier), their bounding
+    /// spheres overlap already while not approaching, or they stay apart on
+    /// the bodies' current lines. A node whose velocity
     /// the law changes later has its pairs tested again then.
     pub(super) fn may_meet(
         &self,
@@ -309,6 +340,12 @@ impl Replay {
             return (u2 - u1).length().is_nan();
         }
         let gap = (x2 - x1).length() - r1 - r2;
+        // Overlapping already and not approaching (bodies spawned into
+        // each other, or a pile rapier's solver is separating): rapier's to
+        // separate, not an impact.
+        if gap < 0.0 && (u2 - u1).dot(x2 - x1) >= 0.0 {
+            return false;
+        }
         let reach = (v2 - v1).length() * dt * (1.0 + 2.0 * PRE_HORIZON);
         gap.partial_cmp(&reach) != Some(Ordering::Greater)
     }
