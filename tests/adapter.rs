@@ -60,3 +60,18 @@ mod d3_f64 {
         exact_gas_check();
     }
 }
+
+/// The four adapter crates share one `Mode` and one `Stats` (the core's):
+/// a value of one crate's type is a value of every other's.
+#[test]
+fn the_adapter_crates_share_one_mode_and_one_stats() {
+    let modes: [kimpact2d::Mode; 4] = [
+        kimpact3d::Mode::Native,
+        kimpact2d_f64::Mode::Restitution,
+        kimpact3d_f64::Mode::Impulse,
+        kimpact::Mode::Exact,
+    ];
+    assert_eq!(modes, kimpact::Mode::ALL);
+    let stats: kimpact3d_f64::Stats = kimpact2d::Stats::default();
+    assert_eq!(stats, kimpact::Stats::default());
+}

@@ -444,3 +444,22 @@ fn a_user_filter_decides_the_pairs_the_sweeps_find() {
         assert_eq!(w.kimpact.stats().impacts, 0, "{mode}");
     }
 }
+
+/// `Mode`, `Stats` and `Precision` are the core's types, re-exported: one
+/// value serves every adapter crate, the CLI and the bench.
+#[test]
+fn mode_stats_and_precision_are_the_core_s_types() {
+    let mode: kimpact::Mode = Mode::Impulse;
+    let mut w = TestWorld::new(mode, 0.0, Vector::ZERO);
+    w.ball(Vector::ZERO, Vector::X, 0.5, 1.0);
+    w.step();
+    let stats: kimpact::Stats = w.kimpact.stats();
+    assert_eq!(stats.steps, 1);
+    let expected = if std::mem::size_of::<Real>() == 8 {
+        kimpact::Precision::F64
+    } else {
+        kimpact::Precision::F32
+    };
+    assert_eq!(k::math::PRECISION, expected);
+    assert_eq!("impulse".parse::<k::Mode>(), Ok(mode));
+}

@@ -114,6 +114,41 @@ pub enum FixedPartner {
     Literal,
 }
 
+impl FixedPartner {
+    /// Both policies, the default first.
+    pub const ALL: [FixedPartner; 2] = [FixedPartner::OwnMass, FixedPartner::Literal];
+
+    /// The policy's name as in scene files and serde: `"own_mass"` or
+    /// `"literal"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            FixedPartner::OwnMass => "own_mass",
+            FixedPartner::Literal => "literal",
+        }
+    }
+}
+
+impl core::fmt::Display for FixedPartner {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// An unknown [`FixedPartner`] name (the name given).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("unknown fixed partner policy {0:?}: expected \"own_mass\" or \"literal\"")]
+pub struct ParseFixedPartnerError(pub String);
+
+impl core::str::FromStr for FixedPartner {
+    type Err = ParseFixedPartnerError;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        FixedPartner::ALL
+            .into_iter()
+            .find(|p| p.name() == s)
+            .ok_or_else(|| ParseFixedPartnerError(s.to_owned()))
+    }
+}
+
 /// The law's parameters, as plain data (for configuration files). Turn them
 /// into a [`Law`] with [`Law::new`], which checks them.
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -153,6 +188,29 @@ impl<T: RealField + Copy> Default for LawParams<T> {
             dissipation: T::zero(),
             wall_dissipation: None,
             fixed_partner: FixedPartner::OwnMass,
+        }
+    }
+}
+
+impl<T> LawParams<T> {
+    /// The same parameters with each constant converted by `f` (a scene
+    /// file's `f64` to an `f32` build's scalar, say). Nothing is checked
+    /// here: [`Law::new`] checks the result, as any parameters.
+    ///
+    /// ```
+    /// use kimpact::{Law, LawParams};
+    ///
+    /// let read = LawParams { dissipation: 0.02_f64, ..Default::default() };
+    /// let law = Law::new(read.map(|x| x as f32))?;
+    /// assert_eq!(law.dissipation(), 0.02_f32);
+    /// assert!(Law::new(LawParams { dissipation: 1e300_f64, ..read }.map(|x| x as f32)).is_err());
+    /// # Ok::<(), kimpact::LawError>(())
+    /// ```
+    pub fn map<U>(self, f: impl Fn(T) -> U) -> LawParams<U> {
+        LawParams {
+            dissipation: f(self.dissipation),
+            wall_dissipation: self.wall_dissipation.map(&f),
+            fixed_partner: self.fixed_partner,
         }
     }
 }

@@ -53,11 +53,14 @@ struct ReadmeDoctests;
 mod error;
 mod law;
 pub mod prelude;
+mod shared;
 
 pub use error::{LawError, Which};
 pub use law::{
-    Body, CLAMP_TOLERANCE, Energies, FixedPartner, Impact, Law, LawParams, Mass, Restitution,
+    Body, CLAMP_TOLERANCE, Energies, FixedPartner, Impact, Law, LawParams, Mass,
+    ParseFixedPartnerError, Restitution,
 };
+pub use shared::{Mode, ParseModeError, ParsePrecisionError, Precision, Stats};
 
 /// Re-export of the nalgebra this crate speaks.
 pub use nalgebra;

@@ -43,32 +43,9 @@ pub struct ImpactEvent {
     pub clamped: bool,
 }
 
-/// Running totals since the [`crate::Kimpact`] was built (or reset).
-#[derive(Copy, Clone, Debug, Default, PartialEq)]
-#[cfg_attr(
-    feature = "serde-serialize",
-    derive(serde::Serialize, serde::Deserialize)
-)]
-pub struct Stats {
-    /// Impacts resolved by the law.
-    pub impacts: u64,
-    /// Of which clamped.
-    pub clamped: u64,
-    /// Total energy dissipated by the law (f64 whatever the precision).
-    pub dissipated: f64,
-    /// Pairs skipped because a body had a non-finite velocity or mass.
-    pub skipped_non_finite: u64,
-    /// Exact-mode steps that hit the event cap and handed the rest of the
-    /// step to rapier.
-    pub event_cap_hits: u64,
-    /// Steps taken through kimpact.
-    pub steps: u64,
-    /// Fast bodies left without the contact hook because every partner
-    /// they could touch moved with them (`Config::calm_neighbourhoods`),
-    /// summed over the steps.
-    #[cfg_attr(feature = "serde-serialize", serde(default))]
-    pub calm_bodies: u64,
-}
+/// Running totals since the [`crate::Kimpact`] was built: the core's
+/// [`kimpact::Stats`], the same type in the four adapter crates.
+pub use kimpact::Stats;
 
 /// A step's impact events and the running totals: what every stage
 /// writes its results to.

@@ -41,10 +41,10 @@ pub extern crate rapier_f32 as rapier;
 #[cfg(feature = "f64")]
 pub extern crate rapier_f64 as rapier;
 
-pub use kimpact::{FixedPartner, Law, LawError, LawParams};
+pub use kimpact::{FixedPartner, Law, LawError, LawParams, Precision};
 
 // The module map, from the bottom up (no module imports one above it):
-// math, mode, frame, config     plain types and the step's constants
+// math, mode, frame, config     plain types (Mode and Stats from the core) and the step's constants
 // material                      law parameters per collider
 // body_view, marks, candidates  how the law sees bodies and pairs
 // pair_filter                   whether rapier would let a pair touch

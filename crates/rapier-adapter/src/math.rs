@@ -5,6 +5,15 @@ use nalgebra::SVector;
 
 pub use crate::rapier::math::{DIM, Pose, Real, Vector};
 
+/// The precision of this build: `Real` is `f32` in `kimpact2d` and
+/// `kimpact3d`, `f64` in `kimpact2d-f64` and `kimpact3d-f64`.
+#[cfg(all(feature = "f32", not(feature = "f64")))]
+pub const PRECISION: kimpact::Precision = kimpact::Precision::F32;
+/// The precision of this build: `Real` is `f32` in `kimpact2d` and
+/// `kimpact3d`, `f64` in `kimpact2d-f64` and `kimpact3d-f64`.
+#[cfg(feature = "f64")]
+pub const PRECISION: kimpact::Precision = kimpact::Precision::F64;
+
 /// The law's vector type for this dimension and precision.
 pub type LawVector = SVector<Real, DIM>;
 
