@@ -115,64 +115,21 @@ impl Scene {
     }
 }
 
-/// The accuracy ladder (`k::Mode` is a different type in each adapter crate).
-#[derive(
-    Copy, Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, ValueEnum, Serialize, Deserialize,
-)]
-#[serde(rename_all = "lowercase")]
-pub enum ModeName {
-    /// rapier unchanged.
-    Native,
-    /// The law's restitution written into rapier's manifolds.
-    Restitution,
-    /// The law's velocity changes of the step's impacts, before rapier's solver.
-    Impulse,
-    /// Time-ordered impacts at the analytic time of impact.
-    Exact,
-}
+/// The accuracy ladder and the precision of a run: the core's types, the
+/// same in the four adapter crates (serialized as `"exact"`, `"f32"`).
+pub use kimpact::{Mode, Precision};
 
-impl ModeName {
-    /// Every mode, cheapest first.
-    pub const ALL: [ModeName; 4] = [
-        ModeName::Native,
-        ModeName::Restitution,
-        ModeName::Impulse,
-        ModeName::Exact,
-    ];
-
-    /// The name as in `kimpact::Mode`'s `FromStr`.
-    pub fn name(self) -> &'static str {
-        match self {
-            ModeName::Native => "native",
-            ModeName::Restitution => "restitution",
-            ModeName::Impulse => "impulse",
-            ModeName::Exact => "exact",
-        }
-    }
-}
-
-/// Floating-point precision (which adapter crate runs the scene).
-#[derive(
-    Copy, Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, ValueEnum, Serialize, Deserialize,
-)]
-#[serde(rename_all = "lowercase")]
-pub enum Precision {
-    /// `kimpact2d` / `kimpact3d` (rapier2d / rapier3d).
-    #[value(name = "f32")]
-    F32,
-    /// `kimpact2d-f64` / `kimpact3d-f64`.
-    #[value(name = "f64")]
-    F64,
-}
-
-impl Precision {
-    /// "f32" or "f64".
-    pub fn name(self) -> &'static str {
-        match self {
-            Precision::F32 => "f32",
-            Precision::F64 => "f64",
-        }
-    }
+/// A comma-separated list flag of `T`'s names (listed in `--help`), parsed
+/// by `T`'s own `FromStr`.
+fn names_parser<T, E>(
+    names: impl IntoIterator<Item = &'static str>,
+) -> impl clap::builder::TypedValueParser<Value = T>
+where
+    T: std::str::FromStr<Err = E> + Clone + Send + Sync + 'static,
+    E: std::error::Error + Send + Sync + 'static,
+{
+    use clap::builder::TypedValueParser;
+    clap::builder::PossibleValuesParser::new(names).try_map(|s| s.parse::<T>())
 }
 
 /// Which time per step the medians and ratios use (both are recorded).
@@ -228,8 +185,8 @@ pub struct Pair {
     pub scene: Scene,
     /// Dynamic balls in the scene.
     pub balls: usize,
-    pub mode: ModeName,
-    pub precision: String,
+    pub mode: Mode,
+    pub precision: Precision,
     /// Whether rapier's `parallel` feature was on.
     pub parallel: bool,
     pub warmup: usize,
@@ -244,8 +201,8 @@ pub struct Pair {
 pub struct Solo {
     pub scene: Scene,
     pub balls: usize,
-    pub mode: ModeName,
-    pub precision: String,
+    pub mode: Mode,
+    pub precision: Precision,
     pub steps: usize,
     /// Allocations during the measured steps (untimed run).
     pub allocs: u64,
@@ -279,10 +236,10 @@ struct Cli {
     #[arg(long)]
     big: bool,
     /// Law modes to run; native always runs too (it is the reference).
-    #[arg(long, value_enum, value_delimiter = ',', default_values_t = ModeName::ALL)]
-    mode: Vec<ModeName>,
+    #[arg(long, value_parser = names_parser::<Mode, _>(Mode::ALL.map(Mode::name)), value_delimiter = ',', default_values_t = Mode::ALL)]
+    mode: Vec<Mode>,
     /// Precisions to run.
-    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [Precision::F32, Precision::F64])]
+    #[arg(long, value_parser = names_parser::<Precision, _>(Precision::ALL.map(Precision::name)), value_delimiter = ',', default_values_t = Precision::ALL)]
     precision: Vec<Precision>,
     /// Measured steps per run (the budgets need at least 200).
     #[arg(long, default_value_t = 200)]
@@ -403,7 +360,7 @@ fn child_args(
     kind: &str,
     scene: Scene,
     balls: usize,
-    mode: ModeName,
+    mode: Mode,
     precision: Precision,
 ) -> Vec<String> {
     let steps = if kind == "--solo" {
@@ -532,8 +489,8 @@ fn main() -> ExitCode {
     }
     counts.sort_unstable();
     counts.dedup();
-    let mut modes = vec![ModeName::Native];
-    modes.extend(cli.mode.iter().copied().filter(|&m| m != ModeName::Native));
+    let mut modes = vec![Mode::Native];
+    modes.extend(cli.mode.iter().copied().filter(|&m| m != Mode::Native));
     modes.sort_unstable();
     modes.dedup();
     let mut scenes = cli.scene.clone();
@@ -564,18 +521,18 @@ fn main() -> ExitCode {
                 vec![16]
             };
             for &balls in &sizes {
-                let law_modes: Vec<ModeName> = modes
+                let law_modes: Vec<Mode> = modes
                     .iter()
                     .copied()
-                    .filter(|&m| m != ModeName::Native)
+                    .filter(|&m| m != Mode::Native)
                     .collect();
                 // native against itself when no law mode was asked for
                 let timed = if law_modes.is_empty() {
-                    vec![ModeName::Native]
+                    vec![Mode::Native]
                 } else {
                     law_modes
                 };
-                let progress = |what: &str, mode: ModeName| {
+                let progress = |what: &str, mode: Mode| {
                     eprintln!(
                         "[{:>6.1}s] {} {} {} balls: {what} {}",
                         started.elapsed().as_secs_f64(),

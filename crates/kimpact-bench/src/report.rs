@@ -6,7 +6,7 @@ use std::path::Path;
 use plotters::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::{Clock, Measure, ModeName, Pair, Precision, Scene, Solo};
+use crate::{Clock, Measure, Mode, Pair, Precision, Scene, Solo};
 
 /// The runs of one scene, size and precision.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -17,11 +17,11 @@ pub struct Group {
     pub precision: Precision,
     pub balls: usize,
     /// Every mode of the table (native first).
-    pub modes: Vec<ModeName>,
+    pub modes: Vec<Mode>,
     /// Timing children: native and a mode in lockstep.
-    pub pairs: Vec<(ModeName, Result<Pair, String>)>,
+    pub pairs: Vec<(Mode, Result<Pair, String>)>,
     /// Memory children: each mode alone.
-    pub solos: Vec<(ModeName, Result<Solo, String>)>,
+    pub solos: Vec<(Mode, Result<Solo, String>)>,
 }
 
 /// One line of the table and of the CSV.
@@ -31,7 +31,7 @@ pub struct Row {
     pub precision: Precision,
     pub parallel: bool,
     pub balls: usize,
-    pub mode: ModeName,
+    pub mode: Mode,
     pub rounds: usize,
     pub samples: usize,
     pub clock: Clock,
@@ -155,7 +155,7 @@ fn per_step(measures: &[&Measure], f: impl Fn(&Measure) -> u64) -> f64 {
 /// The rows of one group (one per mode).
 pub fn rows(group: &Group) -> Vec<Row> {
     let clock = group.clock;
-    let solo = |mode: ModeName| {
+    let solo = |mode: Mode| {
         group
             .solos
             .iter()
@@ -177,11 +177,11 @@ pub fn rows(group: &Group) -> Vec<Row> {
                 group
                     .pairs
                     .iter()
-                    .filter(move |(m, _)| mode == ModeName::Native || *m == mode)
+                    .filter(move |(m, _)| mode == Mode::Native || *m == mode)
             };
             let mine: Vec<&Pair> = runs().filter_map(|(_, p)| p.as_ref().ok()).collect();
             // This mode's measures and native's from the same processes.
-            let (law, reference): (Vec<&Measure>, Vec<&Measure>) = if mode == ModeName::Native {
+            let (law, reference): (Vec<&Measure>, Vec<&Measure>) = if mode == Mode::Native {
                 (all_native.clone(), all_native.clone())
             } else {
                 mine.iter().map(|p| (&p.law, &p.native)).unzip()
@@ -199,7 +199,7 @@ pub fn rows(group: &Group) -> Vec<Row> {
             let median = quantile(&times, 0.5);
             let native_median = quantile(&sorted_times(reference.iter().copied(), clock), 0.5);
             // Each round's ratio, sorted (for the median of rounds).
-            let mut per_round: Vec<f64> = if mode == ModeName::Native {
+            let mut per_round: Vec<f64> = if mode == Mode::Native {
                 Vec::new()
             } else {
                 mine.iter()
@@ -258,7 +258,7 @@ pub fn rows(group: &Group) -> Vec<Row> {
                 kimpact_allocs_per_step: share * allocs,
                 attr_sampled: sampled,
                 peak_rss_mib: mib(solo(mode)),
-                native_peak_rss_mib: mib(solo(ModeName::Native)),
+                native_peak_rss_mib: mib(solo(Mode::Native)),
                 impacts_per_step: per_step(&law, |m| m.impacts),
                 energy_rel_change: energy,
                 non_finite: law.iter().map(|m| m.non_finite).max().unwrap_or(0),
@@ -295,7 +295,7 @@ pub struct Verdict {
     pub pass: Option<bool>,
 }
 
-fn find(rows: &[Row], scene: Scene, balls: usize, mode: ModeName, p: Precision) -> Option<&Row> {
+fn find(rows: &[Row], scene: Scene, balls: usize, mode: Mode, p: Precision) -> Option<&Row> {
     rows.iter()
         .find(|r| r.scene == scene && r.balls == balls && r.mode == mode && r.precision == p)
 }
@@ -325,15 +325,15 @@ pub fn budgets(rows: &[Row]) -> Vec<Verdict> {
         });
     };
     for &p in &precisions {
-        if let Some(r) = find(rows, Scene::Pit3d, 10_000, ModeName::Restitution, p) {
+        if let Some(r) = find(rows, Scene::Pit3d, 10_000, Mode::Restitution, p) {
             ratio_budget(&mut out, "restitution", 1.10, r);
         }
         for scene in [Scene::Pit3d, Scene::Pit2d, Scene::Gas3d, Scene::Gas2d] {
-            if let Some(r) = find(rows, scene, 10_000, ModeName::Exact, p) {
+            if let Some(r) = find(rows, scene, 10_000, Mode::Exact, p) {
                 ratio_budget(&mut out, "exact", 1.5, r);
             }
         }
-        for mode in [ModeName::Restitution, ModeName::Impulse, ModeName::Exact] {
+        for mode in [Mode::Restitution, Mode::Impulse, Mode::Exact] {
             if let Some(r) = find(rows, Scene::Cue, 10_000, mode, p) {
                 ratio_budget(&mut out, &format!("cue ball, {}", mode.name()), 1.05, r);
             }
@@ -342,7 +342,7 @@ pub fn budgets(rows: &[Row]) -> Vec<Verdict> {
     // The gas's energy in exact mode, f64.
     for r in rows.iter().filter(|r| {
         matches!(r.scene, Scene::Gas2d | Scene::Gas3d)
-            && r.mode == ModeName::Exact
+            && r.mode == Mode::Exact
             && r.precision == Precision::F64
     }) {
         out.push(Verdict {
@@ -360,7 +360,7 @@ pub fn budgets(rows: &[Row]) -> Vec<Verdict> {
     // stacks where available (see alloc.rs), else the total per step of
     // each law mode against native's (which also counts rapier's reaction to
     // different trajectories). Worst scene per mode.
-    for mode in ModeName::ALL {
+    for mode in Mode::ALL {
         let mine: Vec<&Row> = rows
             .iter()
             .filter(|r| r.mode == mode && r.error.is_none())
@@ -393,7 +393,7 @@ pub fn budgets(rows: &[Row]) -> Vec<Verdict> {
             });
             continue;
         }
-        if mode == ModeName::Native {
+        if mode == Mode::Native {
             continue;
         }
         let worst = mine
@@ -443,9 +443,9 @@ fn fmt_us(us: f64) -> String {
 
 /// The log-log slope of time per step against balls, per scene, precision
 /// and mode, between the smallest and the largest size measured.
-fn slopes(rows: &[Row]) -> Vec<(Scene, Precision, ModeName, f64, f64)> {
+fn slopes(rows: &[Row]) -> Vec<(Scene, Precision, Mode, f64, f64)> {
     let mut out = Vec::new();
-    let mut keys: Vec<(Scene, Precision, ModeName)> = rows
+    let mut keys: Vec<(Scene, Precision, Mode)> = rows
         .iter()
         .map(|r| (r.scene, r.precision, r.mode))
         .collect();
@@ -464,7 +464,7 @@ fn slopes(rows: &[Row]) -> Vec<(Scene, Precision, ModeName, f64, f64)> {
             .then(|| (b.median_us / a.median_us).ln() / (b.balls as f64 / a.balls as f64).ln())
     };
     for (scene, p, mode) in keys {
-        if let (Some(s), Some(n)) = (slope(scene, p, mode), slope(scene, p, ModeName::Native)) {
+        if let (Some(s), Some(n)) = (slope(scene, p, mode), slope(scene, p, Mode::Native)) {
             out.push((scene, p, mode, s, n));
         }
     }
@@ -522,7 +522,7 @@ pub fn markdown(h: &Header, rows: &[Row]) -> String {
         if r.skipped > 0 {
             notes.push(format!("{} skipped pairs", r.skipped));
         }
-        let ratio = if r.mode == ModeName::Native {
+        let ratio = if r.mode == Mode::Native {
             "1".to_owned()
         } else {
             if r.rounds > 1 {
@@ -550,7 +550,7 @@ pub fn markdown(h: &Header, rows: &[Row]) -> String {
             r.balls,
             r.mode.name(),
             fmt_us(r.median_us),
-            if r.mode == ModeName::Native {
+            if r.mode == Mode::Native {
                 String::new()
             } else {
                 fmt_us(r.native_median_us)
@@ -658,12 +658,12 @@ pub fn csv(rows: &[Row]) -> String {
     s
 }
 
-fn color(mode: ModeName) -> RGBColor {
+fn color(mode: Mode) -> RGBColor {
     match mode {
-        ModeName::Native => RGBColor(0, 0, 0),
-        ModeName::Restitution => RGBColor(31, 119, 180),
-        ModeName::Impulse => RGBColor(255, 127, 14),
-        ModeName::Exact => RGBColor(214, 39, 40),
+        Mode::Native => RGBColor(0, 0, 0),
+        Mode::Restitution => RGBColor(31, 119, 180),
+        Mode::Impulse => RGBColor(255, 127, 14),
+        Mode::Exact => RGBColor(214, 39, 40),
     }
 }
 
@@ -722,7 +722,7 @@ pub fn scaling_svg(rows: &[Row], scene: Scene, p: Precision) -> Result<Option<St
             .y_desc("median time per step (ms)")
             .draw()
             .map_err(|e| e.to_string())?;
-        for mode in ModeName::ALL {
+        for mode in Mode::ALL {
             let mut pts: Vec<(f64, f64)> = mine
                 .iter()
                 .filter(|r| r.mode == mode)

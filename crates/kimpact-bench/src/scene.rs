@@ -3,23 +3,13 @@
 // Native and the law modes run through exactly this code; only the `Mode`
 // given to `Kimpact::new` differs.
 
-use std::str::FromStr;
 use std::time::Instant;
 
 use k::math::{DIM, Real, Vector};
 use k::rapier::prelude::*;
 use k::{Kimpact, Law, LawParams, Mode};
 
-use crate::{Measure, ModeName, Pair, Scene, Solo, alloc, memory};
-
-/// "f32" or "f64": the precision this copy of the scene code was built with.
-pub fn precision() -> &'static str {
-    if std::mem::size_of::<Real>() == 8 {
-        "f64"
-    } else {
-        "f32"
-    }
-}
+use crate::{Measure, Pair, Scene, Solo, alloc, memory};
 
 /// A deterministic generator (the same sequence in every mode).
 struct Lcg(u64);
@@ -382,14 +372,13 @@ fn finish_measure(bench: &Bench, m: &mut Measure, stats0: k::Stats) {
 pub fn run_pair(
     scene: Scene,
     balls: usize,
-    mode: ModeName,
+    mode: Mode,
     warmup: usize,
     steps: usize,
     block: usize,
 ) -> Option<Pair> {
-    let law_mode = Mode::from_str(mode.name()).expect("the same mode names");
     let mut native = Bench::build(scene, balls, Mode::Native)?;
-    let mut law = Bench::build(scene, balls, law_mode)?;
+    let mut law = Bench::build(scene, balls, mode)?;
     for _ in 0..warmup {
         native.step();
         law.step();
@@ -414,7 +403,7 @@ pub fn run_pair(
         scene,
         balls: law.balls.len(),
         mode,
-        precision: precision().to_owned(),
+        precision: k::math::PRECISION,
         parallel: cfg!(feature = "parallel"),
         warmup,
         block,
@@ -431,13 +420,12 @@ pub fn run_pair(
 pub fn run_solo(
     scene: Scene,
     balls: usize,
-    mode: ModeName,
+    mode: Mode,
     warmup: usize,
     steps: usize,
     attribute: bool,
 ) -> Option<Solo> {
-    let law_mode = Mode::from_str(mode.name()).expect("the same mode names");
-    let mut bench = Bench::build(scene, balls, law_mode)?;
+    let mut bench = Bench::build(scene, balls, mode)?;
     for _ in 0..warmup {
         bench.step();
     }
@@ -451,7 +439,7 @@ pub fn run_solo(
         scene,
         balls: bench.balls.len(),
         mode,
-        precision: precision().to_owned(),
+        precision: k::math::PRECISION,
         steps,
         allocs: count1 - count0,
         peak_rss_kib,
@@ -463,7 +451,7 @@ pub fn run_solo(
     };
     if attribute {
         drop(bench);
-        let mut again = Bench::build(scene, balls, law_mode)?;
+        let mut again = Bench::build(scene, balls, mode)?;
         for _ in 0..warmup {
             again.step();
         }
