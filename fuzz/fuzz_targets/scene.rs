@@ -3,8 +3,9 @@
 //! through the validator.
 //!
 //! The parser is kimpact-cli's own `src/scene.rs`, compiled here by
-//! `#[path]` together with the adapters' `mode.rs` (its only other
-//! dependency inside the workspace), so the target builds without rapier.
+//! `#[path]` (its only dependency inside the workspace is the core crate
+//! `kimpact`, for `Mode`, `Precision` and `LawParams`), so the target builds
+//! without rapier.
 //!
 //! The input is decoded as the CLI decodes a file (`read_to_string`, which
 //! rejects invalid UTF-8 with an error); invalid UTF-8 is also fed lossily
@@ -25,16 +26,9 @@
 
 use libfuzzer_sys::fuzz_target;
 
-#[allow(dead_code, unexpected_cfgs)]
-#[path = "../../crates/rapier-adapter/src/mode.rs"]
-mod mode;
-
 #[allow(dead_code)]
 #[path = "../../crates/kimpact-cli/src/scene.rs"]
 mod scene;
-
-/// `scene.rs` names the mode as `crate::Mode`, as in the CLI.
-pub use mode::Mode;
 
 use scene::{MAX_BODIES, MAX_STEPS, Scene, SceneError, Shape};
 

@@ -32,8 +32,8 @@ mod sim;
 
 use error::CliError;
 
-/// The accuracy ladder (the same in the four adapter crates).
-pub use kimpact2d::Mode;
+/// The accuracy ladder: the core's, shared by the four adapter crates.
+pub use kimpact::Mode;
 
 /// The command line.
 #[derive(Parser, Debug)]
@@ -54,7 +54,7 @@ enum Command {
         /// The scene file (.json, .ron or .toml).
         scene: PathBuf,
         /// Override the scene's mode: native, restitution, impulse or exact.
-        #[arg(long, value_parser = parse_mode)]
+        #[arg(long, value_parser = mode_parser())]
         mode: Option<Mode>,
         /// Override the scene's number of steps.
         #[arg(long, value_parser = clap::value_parser!(u64).range(1..=scene::MAX_STEPS))]
@@ -81,8 +81,12 @@ enum Command {
     },
 }
 
-fn parse_mode(s: &str) -> Result<Mode, String> {
-    s.parse::<Mode>().map_err(|e| e.to_string())
+/// `--mode`: one of the mode names (listed in `--help`), parsed by
+/// `Mode`'s own `FromStr`.
+fn mode_parser() -> impl clap::builder::TypedValueParser<Value = Mode> {
+    use clap::builder::TypedValueParser;
+    clap::builder::PossibleValuesParser::new(Mode::ALL.map(Mode::name))
+        .try_map(|s| s.parse::<Mode>())
 }
 
 fn main() -> ExitCode {

@@ -5,13 +5,14 @@
 //! got 0`), with line and column for parse errors. See `docs/scenes.md` for
 //! every key.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::fmt;
 use std::path::Path;
 
+use kimpact::{Law, LawError, LawParams};
 use serde::Deserialize;
 
-use crate::Mode;
+pub use kimpact::{FixedPartner, Mode, Precision};
 
 /// The file as written: every key optional, so that a missing key is
 /// reported by the validator with its path.
@@ -34,6 +35,8 @@ pub struct SceneFile {
     pub mode: Option<String>,
     /// The law's parameters.
     pub law: Option<LawFile>,
+    /// Named materials (law parameters per body), by name.
+    pub materials: Option<BTreeMap<String, MaterialFile>>,
     /// The bodies, listed one by one.
     pub bodies: Option<Vec<BodyFile>>,
     /// Grids of bodies, appended after `bodies`.
@@ -45,7 +48,9 @@ pub struct SceneFile {
     pub view: Option<ViewFile>,
 }
 
-/// The `law` table.
+/// The `law` table: the core's [`LawParams`] as written, every key
+/// optional, its policy read by name in every format (RON would otherwise
+/// want an identifier, `OwnMass`).
 #[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LawFile {
@@ -54,7 +59,106 @@ pub struct LawFile {
     /// d̃ against fixed bodies (default: same as `dissipation`).
     pub wall_dissipation: Option<f64>,
     /// `"own_mass"` (default) or `"literal"`.
-    pub fixed_partner: Option<String>,
+    #[serde(default, deserialize_with = "by_name")]
+    pub fixed_partner: Option<FixedPartner>,
+}
+
+impl LawFile {
+    /// The parameters written, defaults filled in (not checked yet).
+    pub fn params(&self) -> LawParams<f64> {
+        LawParams {
+            dissipation: self.dissipation.unwrap_or(0.0),
+            wall_dissipation: self.wall_dissipation,
+            fixed_partner: self.fixed_partner.unwrap_or_default(),
+        }
+    }
+}
+
+/// An optional value written as its name (a string in every format),
+/// parsed by its `FromStr`: a bad name is an error at its key, with its
+/// line and column.
+fn by_name<'de, D, T>(de: D) -> Result<Option<T>, D::Error>
+where
+    D: serde::Deserializer<'de>,
+    T: std::str::FromStr,
+    T::Err: fmt::Display,
+{
+    match Option::<String>::deserialize(de)? {
+        None => Ok(None),
+        Some(name) => name.parse().map(Some).map_err(serde::de::Error::custom),
+    }
+}
+
+/// One entry of `materials`: the law's parameters for the bodies that
+/// name it.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialFile {
+    /// d̃ ≥ 0 against other law bodies (default 0, elastic).
+    pub dissipation: Option<f64>,
+    /// d̃ against fixed bodies (default: same as `dissipation`).
+    pub wall_dissipation: Option<f64>,
+    /// How two materials combine (default `"average"`).
+    #[serde(default, deserialize_with = "by_name")]
+    pub combine: Option<CombineRule>,
+}
+
+/// How the constants of two materials combine for a pair: rapier's
+/// `CoefficientCombineRule`, whose rule wins when the two differ
+/// (`geometric_mean > clamped_sum > max > multiply > min > average`).
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum CombineRule {
+    /// `(a + b) / 2`.
+    #[default]
+    Average,
+    /// The smaller.
+    Min,
+    /// `a b`.
+    Multiply,
+    /// The larger.
+    Max,
+    /// `a + b`, clamped to `[0, 1]`.
+    ClampedSum,
+    /// `sqrt(a b)`.
+    GeometricMean,
+}
+
+impl CombineRule {
+    /// Every rule, lowest priority first.
+    pub const ALL: [CombineRule; 6] = [
+        CombineRule::Average,
+        CombineRule::Min,
+        CombineRule::Multiply,
+        CombineRule::Max,
+        CombineRule::ClampedSum,
+        CombineRule::GeometricMean,
+    ];
+
+    /// The rule's name in scene files.
+    pub fn name(self) -> &'static str {
+        match self {
+            CombineRule::Average => "average",
+            CombineRule::Min => "min",
+            CombineRule::Multiply => "multiply",
+            CombineRule::Max => "max",
+            CombineRule::ClampedSum => "clamped_sum",
+            CombineRule::GeometricMean => "geometric_mean",
+        }
+    }
+}
+
+impl std::str::FromStr for CombineRule {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        CombineRule::ALL
+            .into_iter()
+            .find(|r| r.name() == s)
+            .ok_or_else(|| {
+                format!(
+                    "unknown combine rule {s:?}: expected one of \"average\", \"min\", \"multiply\", \"max\", \"clamped_sum\", \"geometric_mean\""
+                )
+            })
+    }
 }
 
 /// One entry of `bodies` (or a generator's `body` template).
@@ -86,6 +190,9 @@ pub struct BodyFile {
     pub law: Option<bool>,
     /// Continuous collision detection (default: automatic).
     pub ccd: Option<bool>,
+    /// The name of one of the scene's `materials` (default: none, the
+    /// scene's `law`).
+    pub material: Option<String>,
 }
 
 /// One entry of `generators`: a grid of bodies.
@@ -104,6 +211,8 @@ pub struct GeneratorFile {
     pub masses: Option<Vec<f64>>,
     /// Radii used in turn (balls; overrides the template's `radius`).
     pub radii: Option<Vec<f64>>,
+    /// Material names used in turn (overrides the template's `material`).
+    pub materials: Option<Vec<String>>,
     /// A random velocity of this speed is added to each body.
     pub speed: Option<f64>,
     /// Seed of the random directions (default 1).
@@ -152,25 +261,6 @@ impl fmt::Display for SceneError {
 }
 
 impl std::error::Error for SceneError {}
-
-/// Numeric precision of the simulation.
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
-pub enum Precision {
-    /// rapier's f32 crates.
-    F32,
-    /// rapier's f64 crates.
-    F64,
-}
-
-impl Precision {
-    /// `"f32"` or `"f64"`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Precision::F32 => "f32",
-            Precision::F64 => "f64",
-        }
-    }
-}
 
 /// A body's shape.
 #[derive(Clone, Debug, PartialEq)]
@@ -241,20 +331,30 @@ pub struct Body {
     pub law: bool,
     /// CCD as written (`None`: automatic).
     pub ccd: Option<bool>,
+    /// Index of its material in [`Scene::materials`] (`None`: the scene's
+    /// law).
+    pub material: Option<usize>,
 }
 
-/// The partner policy for fixed bodies.
-pub use kimpact::FixedPartner;
-
-/// The validated `law` table.
-#[derive(Copy, Clone, Debug, PartialEq)]
-pub struct LawSpec {
-    /// d̃.
+/// A validated material: constants checked in the scene's precision, as the
+/// adapter's `Material::new` checks them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    /// Its name in `materials`.
+    pub name: String,
+    /// d̃ against other law bodies.
     pub dissipation: f64,
     /// d̃ against fixed bodies.
-    pub wall_dissipation: Option<f64>,
-    /// The partner policy.
-    pub fixed_partner: FixedPartner,
+    pub wall_dissipation: f64,
+    /// The combine rule.
+    pub combine: CombineRule,
+}
+
+impl Material {
+    /// Whether the material dissipates (d̃ or the wall's d̃ positive).
+    pub fn dissipates(&self) -> bool {
+        self.dissipation > 0.0 || self.wall_dissipation > 0.0
+    }
 }
 
 /// An effect a scene can call for.
@@ -328,8 +428,10 @@ pub struct Scene {
     pub gravity: Vec<f64>,
     /// Mode.
     pub mode: Mode,
-    /// The law.
-    pub law: LawSpec,
+    /// The law (checked in the scene's precision).
+    pub law: LawParams<f64>,
+    /// The materials that bodies use, in name order.
+    pub materials: Vec<Material>,
     /// Every body: `bodies`, then the generators' bodies.
     pub bodies: Vec<Body>,
     /// The effects the scene calls for (listed, or derived when `effects`
@@ -351,7 +453,7 @@ impl Scene {
         match effect {
             Effect::Gravity => self.gravity.iter().any(|g| *g != 0.0),
             Effect::Dissipation => {
-                self.law.dissipation > 0.0 || self.law.wall_dissipation.is_some_and(|w| w > 0.0)
+                law_dissipates(&self.law) || self.materials.iter().any(Material::dissipates)
             }
             Effect::Friction => self.bodies.iter().any(|b| b.friction > 0.0),
             Effect::Spin => self.bodies.iter().any(|b| !b.fixed),
@@ -378,16 +480,25 @@ impl Scene {
     }
 
     /// The law as simulated (elastic unless `dissipation` is active).
-    pub fn effective_law(&self) -> LawSpec {
+    pub fn effective_law(&self) -> LawParams<f64> {
         if self.active(Effect::Dissipation) {
             self.law
         } else {
-            LawSpec {
+            LawParams {
                 dissipation: 0.0,
                 wall_dissipation: None,
                 ..self.law
             }
         }
+    }
+
+    /// Body `i`'s material as simulated: none unless `dissipation` is
+    /// active (the elastic law then governs every pair).
+    pub fn effective_material(&self, i: usize) -> Option<&Material> {
+        if !self.active(Effect::Dissipation) {
+            return None;
+        }
+        self.materials.get(self.bodies[i].material?)
     }
 
     /// The speed no moving body can exceed (`None` for fixed bodies): the
@@ -634,6 +745,16 @@ fn toml_location(text: &str, e: &toml::de::Error) -> Option<(usize, usize)> {
 struct Checker<'a> {
     file: &'a str,
     dim: usize,
+    /// The scene's precision: law parameters are checked in it.
+    precision: Precision,
+    /// The names of the scene's materials, sorted (a body's material is its
+    /// index here).
+    materials: Vec<String>,
+}
+
+/// Whether law parameters dissipate (d̃ or the wall's d̃ positive).
+fn law_dissipates(law: &LawParams<f64>) -> bool {
+    law.dissipation > 0.0 || law.wall_dissipation.is_some_and(|w| w > 0.0)
 }
 
 type Check<T> = Result<T, SceneError>;
@@ -671,6 +792,64 @@ impl Checker<'_> {
             Ok(v)
         } else {
             self.err(field, format!("must be >= 0, got {v}"))
+        }
+    }
+
+    /// Check law parameters (at `at`: `law`, `materials.NAME`) as the
+    /// adapter of the scene's precision will: an invalid constant is named
+    /// (`law.dissipation`), and one that f32 cannot hold is an error in an
+    /// f32 scene (it would reach the adapter as infinity).
+    fn law(&self, at: &str, params: LawParams<f64>) -> Check<()> {
+        let result = match (Law::new(params), self.precision) {
+            (Err(e), _) => Err((e, false)),
+            (Ok(_), Precision::F64) => Ok(()),
+            (Ok(_), Precision::F32) => Law::new(params.map(|x| x as f32))
+                .map(drop)
+                .map_err(|e| (e, true)),
+        };
+        match result {
+            Ok(()) => Ok(()),
+            Err((LawError::InvalidDissipation { parameter, value }, narrowed)) => {
+                let field = format!("{at}.{parameter}");
+                if narrowed {
+                    let written = if parameter == "wall_dissipation" {
+                        params.wall_dissipation.unwrap_or(params.dissipation)
+                    } else {
+                        params.dissipation
+                    };
+                    self.err(
+                        &field,
+                        format!(
+                            "{written:e} is beyond f32's range (at most {:e}): use a smaller value or precision \"f64\"",
+                            f32::MAX
+                        ),
+                    )
+                } else {
+                    self.err(&field, format!("must be finite and >= 0, got {value}"))
+                }
+            }
+            Err((e, _)) => self.err(at, e.to_string()),
+        }
+    }
+
+    /// The index of the material named `name` (at `field`).
+    fn material(&self, field: &str, name: &str) -> Check<usize> {
+        match self.materials.binary_search_by(|m| m.as_str().cmp(name)) {
+            Ok(i) => Ok(i),
+            Err(_) if self.materials.is_empty() => self.err(
+                field,
+                format!("unknown material {name:?}: the scene defines no `materials`"),
+            ),
+            Err(_) => {
+                let known: Vec<String> = self.materials.iter().map(|m| format!("{m:?}")).collect();
+                self.err(
+                    field,
+                    format!(
+                        "unknown material {name:?}: expected one of {}",
+                        known.join(", ")
+                    ),
+                )
+            }
         }
     }
 
@@ -791,6 +970,16 @@ impl Checker<'_> {
                 "a fixed body does not move: CCD is for moving bodies",
             );
         }
+        let material = match &b.material {
+            Some(_) if !fixed && !law => {
+                return self.err(
+                    &f("material"),
+                    "a body that does not follow the law has no material: remove `material`, or set `law` to true",
+                );
+            }
+            Some(name) => Some(self.material(&f("material"), name)?),
+            None => None,
+        };
         Ok(Body {
             origin: origin.to_owned(),
             name: b.name.clone(),
@@ -803,6 +992,7 @@ impl Checker<'_> {
             friction,
             law,
             ccd: b.ccd,
+            material,
         })
     }
 
@@ -895,6 +1085,23 @@ impl Checker<'_> {
             }
             None => Vec::new(),
         };
+        let materials = match &g.materials {
+            Some(ms) if ms.is_empty() => return self.err(&f("materials"), "must not be empty"),
+            Some(_) if !base.fixed && !base.law => {
+                return self.err(
+                    &f("materials"),
+                    "the template does not follow the law (`law: false`): its bodies have no material",
+                );
+            }
+            Some(ms) => {
+                let mut out = Vec::with_capacity(ms.len());
+                for (i, m) in ms.iter().enumerate() {
+                    out.push(self.material(&format!("{}[{i}]", f("materials")), m)?);
+                }
+                out
+            }
+            None => Vec::new(),
+        };
         let speed = self.non_negative(&f("speed"), g.speed.unwrap_or(0.0))?;
         if speed > 0.0 && base.fixed {
             return self.err(
@@ -917,6 +1124,9 @@ impl Checker<'_> {
                 b.shape = Shape::Ball {
                     radius: radii[n % radii.len()],
                 };
+            }
+            if !materials.is_empty() {
+                b.material = Some(materials[n % materials.len()]);
             }
             if speed > 0.0 {
                 let dir = rng.direction(self.dim);
@@ -994,7 +1204,12 @@ impl SplitMix {
 /// # Errors
 /// A [`SceneError`] naming `file` and the field.
 pub fn validate(raw: SceneFile, file: &str, name: &str) -> Result<Scene, SceneError> {
-    let mut c = Checker { file, dim: 0 };
+    let mut c = Checker {
+        file,
+        dim: 0,
+        precision: Precision::F32,
+        materials: Vec::new(),
+    };
     let dim = match raw.dim {
         Some(d @ (2 | 3)) => d as usize,
         Some(d) => return c.err("dim", format!("must be 2 or 3, got {d}")),
@@ -1002,15 +1217,13 @@ pub fn validate(raw: SceneFile, file: &str, name: &str) -> Result<Scene, SceneEr
     };
     c.dim = dim;
     let precision = match raw.precision.as_deref() {
-        None | Some("f32") => Precision::F32,
-        Some("f64") => Precision::F64,
-        Some(p) => {
-            return c.err(
-                "precision",
-                format!("must be \"f32\" or \"f64\", got {p:?}"),
-            );
-        }
+        None => Precision::F32,
+        Some(p) => match p.parse::<Precision>() {
+            Ok(p) => p,
+            Err(e) => return c.err("precision", e.to_string()),
+        },
     };
+    c.precision = precision;
     let dt = c.positive("dt", raw.dt.unwrap_or(1.0 / 60.0))?;
     let steps = match raw.steps {
         Some(s) if (1..=MAX_STEPS).contains(&s) => s,
@@ -1033,34 +1246,33 @@ pub fn validate(raw: SceneFile, file: &str, name: &str) -> Result<Scene, SceneEr
             Err(e) => return c.err("mode", e.to_string()),
         },
     };
-    let lf = raw.law.clone().unwrap_or_default();
-    let dissipation = c.non_negative("law.dissipation", lf.dissipation.unwrap_or(0.0))?;
-    let wall_dissipation = match lf.wall_dissipation {
-        Some(w) => Some(c.non_negative("law.wall_dissipation", w)?),
-        None => None,
-    };
-    let fixed_partner = match lf.fixed_partner.as_deref() {
-        None | Some("own_mass") => FixedPartner::OwnMass,
-        Some("literal") => FixedPartner::Literal,
-        Some(p) => {
-            return c.err(
-                "law.fixed_partner",
-                format!("must be \"own_mass\" or \"literal\", got {p:?}"),
-            );
+    let law = raw.law.as_ref().map(LawFile::params).unwrap_or_default();
+    c.law("law", law)?;
+    let mut materials = Vec::new();
+    for (name, m) in raw.materials.iter().flatten() {
+        let at = format!("materials.{name}");
+        if name.is_empty() {
+            return c.err("materials", "a material needs a non-empty name");
         }
-    };
-    let law = LawSpec {
-        dissipation,
-        wall_dissipation,
-        fixed_partner,
-    };
-    if let Err(e) = kimpact::Law::new(kimpact::LawParams {
-        dissipation,
-        wall_dissipation,
-        fixed_partner,
-    }) {
-        return c.err("law", e.to_string());
+        let dissipation = m.dissipation.unwrap_or(0.0);
+        let wall_dissipation = m.wall_dissipation.unwrap_or(dissipation);
+        c.law(
+            &at,
+            LawParams {
+                dissipation,
+                wall_dissipation: Some(wall_dissipation),
+                fixed_partner: FixedPartner::default(),
+            },
+        )?;
+        materials.push(Material {
+            name: name.clone(),
+            dissipation,
+            wall_dissipation,
+            combine: m.combine.unwrap_or_default(),
+        });
     }
+    // A BTreeMap iterates in name order: the checker's binary search holds.
+    c.materials = materials.iter().map(|m| m.name.clone()).collect();
 
     let mut bodies = Vec::new();
     for (i, b) in raw.bodies.iter().flatten().enumerate() {
@@ -1090,6 +1302,16 @@ pub fn validate(raw: SceneFile, file: &str, name: &str) -> Result<Scene, SceneEr
     }
 
     let mut warnings = Vec::new();
+    for (i, m) in materials.iter().enumerate() {
+        if !bodies.iter().any(|b| b.material == Some(i)) {
+            warnings.push(format!("{file}: materials.{}: no body uses it", m.name));
+        }
+    }
+    let dissipates = law_dissipates(&law)
+        || bodies
+            .iter()
+            .filter_map(|b| b.material)
+            .any(|i| materials[i].dissipates());
     let effects = match &raw.effects {
         Some(list) => {
             let mut set = BTreeSet::new();
@@ -1119,10 +1341,8 @@ pub fn validate(raw: SceneFile, file: &str, name: &str) -> Result<Scene, SceneEr
                     "{file}: gravity: ignored, \"gravity\" is not in `effects`"
                 ));
             }
-            if !set.contains(&Effect::Dissipation)
-                && (dissipation > 0.0 || wall_dissipation.is_some_and(|w| w > 0.0))
-            {
-                warnings.push(format!("{file}: law.dissipation: ignored (elastic law), \"dissipation\" is not in `effects`"));
+            if !set.contains(&Effect::Dissipation) && dissipates {
+                warnings.push(format!("{file}: law.dissipation, materials: ignored (elastic law), \"dissipation\" is not in `effects`"));
             }
             if !set.contains(&Effect::Friction) && bodies.iter().any(|b| b.friction > 0.0) {
                 warnings.push(format!(
@@ -1136,7 +1356,7 @@ pub fn validate(raw: SceneFile, file: &str, name: &str) -> Result<Scene, SceneEr
             if gravity.iter().any(|g| *g != 0.0) {
                 set.insert(Effect::Gravity);
             }
-            if dissipation > 0.0 || wall_dissipation.is_some_and(|w| w > 0.0) {
+            if dissipates {
                 set.insert(Effect::Dissipation);
             }
             if bodies.iter().any(|b| b.friction > 0.0) {
@@ -1185,7 +1405,12 @@ pub fn validate(raw: SceneFile, file: &str, name: &str) -> Result<Scene, SceneEr
     let bounds = match (&vf.min, &vf.max) {
         (None, None) => None,
         (Some(lo), Some(hi)) => {
-            let two = Checker { file, dim: 2 };
+            let two = Checker {
+                file,
+                dim: 2,
+                precision,
+                materials: Vec::new(),
+            };
             let lo = two.vector("view.min", lo)?;
             let hi = two.vector("view.max", hi)?;
             if !(hi[0] > lo[0] && hi[1] > lo[1]) {
@@ -1219,6 +1444,7 @@ pub fn validate(raw: SceneFile, file: &str, name: &str) -> Result<Scene, SceneEr
         gravity,
         mode,
         law,
+        materials,
         bodies,
         effects,
         view,

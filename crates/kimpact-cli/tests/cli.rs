@@ -529,6 +529,20 @@ fn bad_scenes() -> Vec<(String, String, Vec<&'static str>)> {
         ("syntax.toml".into(), "dim = 2\nsteps = = 10\n".into(), vec![":2:"]),
         ("scene.yaml".into(), "dim: 2".into(), vec!["scene format"]),
         ("bad_view_axes.json".into(), format!(r#"{{"dim": 2, "steps": 10, "view": {{"axes": "xz"}}, "bodies": [{BALL}]}}"#), vec!["view.axes"]),
+        // Materials: names, constants and combine rules, in every format.
+        ("unknown_material.json".into(), format!(r#"{{"dim": 2, "steps": 10, "materials": {{"rubber": {{"dissipation": 0.1}}, "steel": {{}}}}, "bodies": [{}]}}"#, BALL.replace('}', r#", "material": "rubbr"}"#)), vec!["bodies[0].material", r#"unknown material "rubbr""#, r#""rubber", "steel""#]),
+        ("material_without_materials.ron".into(), "(dim: 2, steps: 10, bodies: [(shape: \"ball\", radius: 0.1, mass: 1.0, position: [0.0, 0.0], material: \"rubber\")])".into(), vec!["bodies[0].material", "defines no `materials`"]),
+        ("negative_material_dissipation.toml".into(), "dim = 2\nsteps = 10\n[materials.rubber]\ndissipation = -0.1\n[[bodies]]\nshape = \"ball\"\nradius = 0.1\nmass = 1.0\nposition = [0.0, 0.0]\nmaterial = \"rubber\"\n".into(), vec!["materials.rubber.dissipation", "must be finite and >= 0, got -0.1"]),
+        ("nan_material_wall_dissipation.ron".into(), "(dim: 2, steps: 10, materials: {\"rubber\": (wall_dissipation: NaN)}, bodies: [(shape: \"ball\", radius: 0.1, mass: 1.0, position: [0.0, 0.0], material: \"rubber\")])".into(), vec!["materials.rubber.wall_dissipation", "finite"]),
+        ("bad_combine_rule.json".into(), format!(r#"{{"dim": 2, "steps": 10, "materials": {{"rubber": {{"combine": "sum"}}}}, "bodies": [{BALL}]}}"#), vec!["materials.rubber.combine", "sum", "geometric_mean"]),
+        ("bad_combine_rule.toml".into(), "dim = 2\nsteps = 10\n[materials.rubber]\ncombine = 3\n[[bodies]]\nshape = \"ball\"\nradius = 0.1\nmass = 1.0\nposition = [0.0, 0.0]\n".into(), vec!["materials.rubber.combine", ":4:"]),
+        ("unknown_material_key.json".into(), format!(r#"{{"dim": 2, "steps": 10, "materials": {{"rubber": {{"dissipaton": 0.1}}}}, "bodies": [{BALL}]}}"#), vec!["materials.rubber", "dissipaton"]),
+        ("material_on_a_non_law_body.json".into(), json(r#"{"shape": "ball", "radius": 0.1, "mass": 1, "position": [0, 0], "law": false, "material": "rubber"}"#).replace(r#""steps": 10,"#, r#""steps": 10, "materials": {"rubber": {}},"#), vec!["bodies[0].material", "does not follow the law"]),
+        ("generator_unknown_material.json".into(), r#"{"dim": 2, "steps": 10, "materials": {"rubber": {}}, "generators": [{"origin": [0, 0], "count": [2, 2], "spacing": [1, 1], "body": {"shape": "ball", "radius": 0.1, "mass": 1}, "materials": ["rubber", "wood"]}]}"#.into(), vec!["generators[0].materials[1]", r#"unknown material "wood""#]),
+        // Constants f32 cannot hold are errors in an f32 scene (they would
+        // reach the adapter as infinity), not a panic.
+        ("f32_law_overflow.json".into(), format!(r#"{{"dim": 2, "steps": 10, "law": {{"dissipation": 1e300}}, "bodies": [{BALL}]}}"#), vec!["law.dissipation", "beyond f32's range", "\"f64\""]),
+        ("f32_material_overflow.json".into(), format!(r#"{{"dim": 2, "steps": 10, "materials": {{"rubber": {{"dissipation": 0.1, "wall_dissipation": 1e39}}}}, "bodies": [{BALL}]}}"#), vec!["materials.rubber.wall_dissipation", "beyond f32's range"]),
     ];
     cases.sort_by(|a, b| a.0.cmp(&b.0));
     cases

@@ -17,9 +17,6 @@ use std::process::Command;
 #[path = "../src/scene.rs"]
 mod scene;
 
-/// `scene.rs` names the mode `crate::Mode`, as in the binary.
-use kimpact2d::Mode;
-
 use scene::{Scene, SceneError};
 
 const FORMATS: [&str; 3] = ["json", "ron", "toml"];

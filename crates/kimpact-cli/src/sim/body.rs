@@ -5,7 +5,7 @@
 /// Run the scene (see [`super::run`]).
 pub(super) fn run(
     scene: &crate::scene::Scene,
-    mode: crate::Mode,
+    mode: kimpact::Mode,
     steps: u64,
     frame_steps: &[u64],
     progress: Option<&indicatif::ProgressBar>,
@@ -14,10 +14,6 @@ pub(super) fn run(
     use k::math::Real;
     use k::rapier::prelude::*;
 
-    let kmode: k::Mode = mode
-        .name()
-        .parse()
-        .expect("the adapters share the mode names");
     let mut world = PhysicsWorld {
         gravity: vector(&scene.effective_gravity()),
         ..PhysicsWorld::default()
@@ -26,18 +22,14 @@ pub(super) fn run(
 
     let spin = scene.active(Effect::Spin);
     let friction = scene.active(Effect::Friction);
-    let spec = scene.effective_law();
-    let law = k::Law::new(k::LawParams {
-        dissipation: spec.dissipation as Real,
-        wall_dissipation: spec.wall_dissipation.map(|w| w as Real),
-        fixed_partner: spec.fixed_partner,
-    })
-    .expect("the scene's law was validated");
+    // Checked in the scene's precision when the scene was loaded.
+    let law = k::Law::new(scene.effective_law().map(|x| x as Real))
+        .expect("the scene's law was checked in its precision");
     let config = k::Config {
         fixed_partners: scene.active(Effect::FixedWalls),
         ..k::Config::default()
     };
-    let mut kimpact = k::Kimpact::with_config(law, kmode, config)
+    let mut kimpact = k::Kimpact::with_config(law, mode, config)
         .expect("the default configuration with fixed_partners set is valid");
 
     let ccd = scene.ccd_flags();
@@ -49,7 +41,7 @@ pub(super) fn run(
     // without it: rapier's solver would stop a ball at a predicted contact
     // before the law sees the impact (impulse mode lost 10% of the billiards
     // break's energy that way).
-    let soft_ccd = if kmode == k::Mode::Native {
+    let soft_ccd = if mode == k::Mode::Native {
         scene.soft_ccd_predictions()
     } else {
         vec![0.0; scene.bodies.len()]
@@ -88,12 +80,26 @@ pub(super) fn run(
         }
         let (h, c) = world.insert(rb, co);
         // Only bodies that can meet the law are marked (never in native
-        // mode, where kimpact does nothing).
-        if b.law && !b.fixed && kmode != k::Mode::Native {
-            kimpact
-                .mark(&world.colliders, c)
-                .expect("inserted just above");
-            law_bodies += 1;
+        // mode, where kimpact does nothing), with their material if they
+        // have one; a fixed body is marked only to carry its material.
+        let material = scene.effective_material(i).map(|m| {
+            k::Material::new(m.dissipation as Real, m.wall_dissipation as Real)
+                .expect("the scene's materials were checked in its precision")
+                .with_combine_rule(combine_rule(m.combine))
+        });
+        if mode != k::Mode::Native {
+            match material {
+                Some(m) if b.fixed || b.law => kimpact
+                    .mark_with(&world.colliders, c, m)
+                    .expect("inserted just above"),
+                None if b.law && !b.fixed => kimpact
+                    .mark(&world.colliders, c)
+                    .expect("inserted just above"),
+                _ => {}
+            }
+            if b.law && !b.fixed {
+                law_bodies += 1;
+            }
         }
         let (index, _) = c.into_raw_parts();
         let index = index as usize;
@@ -253,13 +259,7 @@ pub(super) fn run(
         final_bodies: state(&world),
         samples,
         frames,
-        stats: super::RunStats {
-            impacts: s.impacts,
-            clamped: s.clamped,
-            dissipated: s.dissipated,
-            skipped_non_finite: s.skipped_non_finite,
-            event_cap_hits: s.event_cap_hits,
-        },
+        stats: s,
         wall_seconds: wall.as_secs_f64(),
         max_penetration,
         max_penetration_ratio: max_ratio,
@@ -267,5 +267,19 @@ pub(super) fn run(
         ccd_bodies: ccd.iter().filter(|c| **c).count(),
         law_bodies,
         substeps: world.integration_parameters.num_solver_iterations,
+    }
+}
+
+/// rapier's combine rule for a scene's.
+fn combine_rule(rule: crate::scene::CombineRule) -> k::rapier::prelude::CoefficientCombineRule {
+    use crate::scene::CombineRule as S;
+    use k::rapier::prelude::CoefficientCombineRule as R;
+    match rule {
+        S::Average => R::Average,
+        S::Min => R::Min,
+        S::Multiply => R::Multiply,
+        S::Max => R::Max,
+        S::ClampedSum => R::ClampedSum,
+        S::GeometricMean => R::GeometricMean,
     }
 }

@@ -6,8 +6,7 @@ use indicatif::ProgressBar;
 
 pub mod crossing;
 
-use crate::Mode;
-use crate::scene::{Precision, Scene};
+use crate::scene::{Mode, Precision, Scene};
 
 /// One body's state.
 #[derive(Clone, Debug, PartialEq)]
@@ -54,21 +53,6 @@ pub struct Frame {
     pub bodies: Vec<BodyState>,
 }
 
-/// kimpact's statistics, dimension-free.
-#[derive(Copy, Clone, Debug, Default, PartialEq)]
-pub struct RunStats {
-    /// Impacts resolved by the law.
-    pub impacts: u64,
-    /// Of which clamped.
-    pub clamped: u64,
-    /// Energy dissipated by the law.
-    pub dissipated: f64,
-    /// Pairs skipped for non-finite data.
-    pub skipped_non_finite: u64,
-    /// Exact-mode steps that hit the event cap.
-    pub event_cap_hits: u64,
-}
-
 /// The outcome of one run.
 #[derive(Clone, Debug)]
 pub struct RunOutput {
@@ -84,8 +68,8 @@ pub struct RunOutput {
     pub samples: Vec<Sample>,
     /// Pictures at the requested steps.
     pub frames: Vec<Frame>,
-    /// kimpact's totals (zero in native mode).
-    pub stats: RunStats,
+    /// kimpact's totals (zero in native mode): the adapters' shared type.
+    pub stats: kimpact::Stats,
     /// Wall time spent in the physics steps.
     pub wall_seconds: f64,
     /// Deepest contact penetration seen over the run (0 if none).
