@@ -12,6 +12,7 @@ mod d2 {
     include!("cases/adapter.rs");
     include!("cases/contract.rs");
     include!("cases/user_worlds.rs");
+    include!("cases/settings.rs");
 }
 
 mod d3 {
@@ -23,6 +24,7 @@ mod d3 {
     include!("cases/adapter.rs");
     include!("cases/contract.rs");
     include!("cases/user_worlds.rs");
+    include!("cases/settings.rs");
 }
 
 mod d2_f64 {
@@ -34,6 +36,7 @@ mod d2_f64 {
     include!("cases/adapter.rs");
     include!("cases/contract.rs");
     include!("cases/user_worlds.rs");
+    include!("cases/settings.rs");
     include!("cases/soak.rs");
     include!("cases/long.rs");
 
@@ -52,6 +55,7 @@ mod d3_f64 {
     include!("cases/adapter.rs");
     include!("cases/contract.rs");
     include!("cases/user_worlds.rs");
+    include!("cases/settings.rs");
     include!("cases/soak.rs");
     include!("cases/long.rs");
 
