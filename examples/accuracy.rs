@@ -534,15 +534,19 @@ const DT: f64 = 1.0 / 60.0;
 /// Every ball: diameter σ = 1, mass 1.
 const R: f64 = 0.5;
 
-/// A small deterministic generator (xorshift).
-struct Rng(u64);
+/// The seeded generator of the lattices: `rand`'s portable Xoshiro256++.
+struct Rng(rand::rngs::Xoshiro256PlusPlus);
 
 impl Rng {
+    fn new(seed: u64) -> Self {
+        use rand::SeedableRng;
+        Self(rand::rngs::Xoshiro256PlusPlus::seed_from_u64(seed))
+    }
+
+    /// Uniform in `[0, 1)`.
     fn next(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+        use rand::RngExt;
+        self.0.random()
     }
 
     fn sym(&mut self, a: f64) -> f64 {
@@ -589,7 +593,7 @@ fn lattice<const D: usize>(
     velocities: Velocities,
     seed: u64,
 ) -> Vec<Ball<D>> {
-    let mut rng = Rng(seed);
+    let mut rng = Rng::new(seed);
     let mut s = (size.product() / n as f64).powf(1.0 / D as f64);
     let counts = loop {
         let c: Vec<usize> = (0..D)

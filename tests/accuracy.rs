@@ -17,16 +17,19 @@ use kimpact_reference::nalgebra::Vector2;
 use kimpact_reference::{Ball, BoxBounds, Reference};
 use kimpact2d_f64 as k;
 
-/// A small deterministic generator (xorshift).
-struct Rng(u64);
+/// The seeded generator of the gas: `rand`'s portable Xoshiro256++.
+struct Rng(rand::rngs::Xoshiro256PlusPlus);
 
 impl Rng {
+    fn new(seed: u64) -> Self {
+        use rand::SeedableRng;
+        Self(rand::rngs::Xoshiro256PlusPlus::seed_from_u64(seed))
+    }
+
     /// Uniform in [0, 1).
     fn next(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+        use rand::RngExt;
+        self.0.random()
     }
 
     /// Uniform in [-a, a).
@@ -49,7 +52,7 @@ fn gas(n: usize, eta: f64, speed: f64, seed: u64) -> (Vec<Ball<2>>, f64) {
     let per = (n as f64).sqrt().ceil() as usize;
     let spacing = side / per as f64;
     let jitter = 0.49 * (spacing - 2.0 * r);
-    let mut rng = Rng(seed);
+    let mut rng = Rng::new(seed);
     let balls = (0..n)
         .map(|i| {
             let cell = Vector2::new((i % per) as f64, (i / per) as f64);

@@ -5,18 +5,6 @@
 // `tests/soak.rs` (the short CI version) and by `examples/soak.rs` (the soak
 // command).
 
-/// A deterministic generator for positions and velocities.
-struct Lcg(u64);
-impl Lcg {
-    fn next(&mut self) -> Real {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((self.0 >> 11) as f64 / (1u64 << 53) as f64) as Real
-    }
-}
-
 /// `n` balls of radius `r` on a grid inside a box of inner half-size `half`.
 fn fill(
     w: &mut TestWorld,
@@ -26,7 +14,9 @@ fn fill(
     speed: Real,
     masses: &[Real],
 ) -> Vec<RigidBodyHandle> {
-    let mut rng = Lcg(42);
+    use rand::{RngExt, SeedableRng};
+    // The seeded generator of positions and velocities.
+    let mut rng = rand::rngs::Xoshiro256PlusPlus::seed_from_u64(42);
     let per_side = ((n as f64).powf(1.0 / DIM as f64).ceil()) as usize;
     let spacing = 2.0 * half / per_side as Real;
     assert!(spacing > 2.0 * r, "the grid must not overlap");
@@ -41,7 +31,7 @@ fn fill(
         }
         let mut v = Vector::ZERO;
         for axis in 0..DIM {
-            v[axis] = speed * (2.0 * rng.next() - 1.0);
+            v[axis] = speed * rng.random_range(-1.0..1.0) as Real;
         }
         let m = masses[out.len() % masses.len()];
         out.push(w.ball(p, v, r, m).0);

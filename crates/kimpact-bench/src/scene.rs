@@ -8,29 +8,19 @@ use std::time::Instant;
 use k::math::{DIM, Real, Vector};
 use k::rapier::prelude::*;
 use k::{Kimpact, Law, LawParams, Mode};
+use rand::rngs::Xoshiro256PlusPlus;
+use rand::{RngExt, SeedableRng};
 
 use crate::{Measure, Pair, Scene, Solo, alloc, memory};
 
-/// A deterministic generator (the same sequence in every mode).
-struct Lcg(u64);
-
-impl Lcg {
-    fn next(&mut self) -> Real {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((self.0 >> 11) as f64 / (1u64 << 53) as f64) as Real
+/// A vector with components uniform in `[-speed, speed)`, from the scene's
+/// seeded generator (the same sequence in every mode).
+fn random_vector(rng: &mut Xoshiro256PlusPlus, speed: Real) -> Vector {
+    let mut v = Vector::ZERO;
+    for axis in 0..DIM {
+        v[axis] = speed * rng.random_range(-1.0..1.0) as Real;
     }
-
-    /// A vector with components uniform in `[-speed, speed]`.
-    fn vector(&mut self, speed: Real) -> Vector {
-        let mut v = Vector::ZERO;
-        for axis in 0..DIM {
-            v[axis] = speed * (2.0 * self.next() - 1.0);
-        }
-        v
-    }
+    v
 }
 
 /// The smallest `k` with `k^DIM >= n` (balls per side of a grid).
@@ -143,7 +133,7 @@ impl Bench {
         if scene.dim() != DIM {
             return None;
         }
-        let mut rng = Lcg(42);
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(42);
         let bench = match scene {
             Scene::Pit2d | Scene::Pit3d => {
                 // Mixed masses dropped on a grid filling a closed box.
@@ -158,7 +148,7 @@ impl Bench {
                 for i in 0..balls {
                     let body = RigidBodyBuilder::dynamic()
                         .translation(grid_point(i, side, spacing))
-                        .linvel(rng.vector(1.0));
+                        .linvel(random_vector(&mut rng, 1.0));
                     b.ball(body, r, [1.0, 2.0, 0.5][i % 3], material);
                 }
                 b
@@ -184,7 +174,7 @@ impl Bench {
                 for i in 0..balls {
                     let body = RigidBodyBuilder::dynamic()
                         .translation(grid_point(i, side, spacing))
-                        .linvel(rng.vector(3.0))
+                        .linvel(random_vector(&mut rng, 3.0))
                         .can_sleep(false);
                     b.ball(body, r, 1.0, material);
                 }

@@ -15,32 +15,23 @@ use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use kimpact::Law;
 use kimpact_reference::{Ball, BoxBounds, Reference};
 use nalgebra::Vector2;
+use rand::rngs::Xoshiro256PlusPlus;
+use rand::{RngExt, SeedableRng};
 
 const N: usize = 1000;
 const PACKING: f64 = 0.3;
 const IMPACTS: u64 = 10_000;
 
-/// A small deterministic generator (xorshift), so the bench needs no rand.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
 /// 1,000 disks on a 32 × 32 lattice of the unit box, random velocities.
 fn gas() -> Reference<2> {
     let radius = (PACKING / (N as f64 * std::f64::consts::PI)).sqrt();
-    let mut rng = Rng(0x2545_F491_4F6C_DD1D);
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(0x2545_F491_4F6C_DD1D);
     let side = 32;
     let balls = (0..N)
         .map(|i| {
             let (x, y) = ((i % side) as f64 + 0.5, (i / side) as f64 + 0.5);
             let position = Vector2::new(x, y) / side as f64;
-            let velocity = Vector2::new(rng.next() - 0.5, rng.next() - 0.5);
+            let velocity = Vector2::new(rng.random_range(-0.5..0.5), rng.random_range(-0.5..0.5));
             Ball::new(radius, 1.0, position, velocity)
         })
         .collect();

@@ -117,16 +117,15 @@ mod tests {
     fn keeps_the_earliest_on_top() {
         let mut q = Queue::new(50);
         let mut times = [f64::INFINITY; 50];
-        let mut x = 12345u64;
+        use rand::rngs::Xoshiro256PlusPlus;
+        use rand::{RngExt, SeedableRng};
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(12345);
         for step in 0..2000 {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            let ball = (x % 50) as u32;
+            let ball = rng.random_range(0..50u32);
             let t = if step % 7 == 0 {
                 f64::INFINITY
             } else {
-                (x >> 20) as f64 / 1e6
+                rng.random_range(0..1u64 << 44) as f64 / 1e6
             };
             q.update(ball, t);
             times[ball as usize] = t;

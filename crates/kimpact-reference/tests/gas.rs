@@ -112,7 +112,7 @@ fn trajectory_does_not_depend_on_how_time_is_split() {
     .unwrap();
     let mut many = one.clone();
     one.advance_to(2.0).unwrap();
-    let mut rng = Rng(99);
+    let mut rng = Rng::new(99);
     while many.time() < 2.0 {
         let t = (many.time() + rng.range(0.0, 0.01)).min(2.0);
         many.advance_to(t).unwrap();

@@ -30,7 +30,7 @@ fn elastic_bounce_keeps_its_height() {
         Law::elastic(),
     )
     .unwrap();
-    let mut rng = Rng(5);
+    let mut rng = Rng::new(5);
     let mut highest: f64 = 0.0;
     for k in 1..=1000 {
         // Random times within the bounce never see it higher than y0.

@@ -9,35 +9,26 @@ use std::hint::black_box;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use kimpact::nalgebra::{RealField, SVector};
 use kimpact::{Body, Law, LawParams};
+use rand::rngs::Xoshiro256PlusPlus;
+use rand::{RngExt, SeedableRng};
 
 const BATCH: usize = 1024;
-
-/// A small deterministic generator (xorshift), so the bench needs no rand.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
 
 type Case<T, const D: usize> = (Body<T, D>, Body<T, D>, SVector<T, D>);
 
 fn cases<T: RealField + Copy, const D: usize>() -> Vec<Case<T, D>> {
-    let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(0x9E37_79B9_7F4A_7C15);
     let mut out = Vec::with_capacity(BATCH);
     let conv = |x: f64| T::from_subset(&x);
     while out.len() < BATCH {
-        let n = SVector::<T, D>::from_fn(|_, _| conv(rng.next() - 0.5));
-        let v_a = SVector::<T, D>::from_fn(|_, _| conv(4.0 * rng.next() - 2.0));
-        let v_b = SVector::<T, D>::from_fn(|_, _| conv(4.0 * rng.next() - 2.0));
+        let n = SVector::<T, D>::from_fn(|_, _| conv(rng.random::<f64>() - 0.5));
+        let v_a = SVector::<T, D>::from_fn(|_, _| conv(4.0 * rng.random::<f64>() - 2.0));
+        let v_b = SVector::<T, D>::from_fn(|_, _| conv(4.0 * rng.random::<f64>() - 2.0));
         if n.norm() < conv(0.1) || (v_b - v_a).dot(&n) >= T::zero() {
             continue;
         }
-        let m_a = conv(10f64.powf(6.0 * rng.next() - 3.0));
-        let m_b = conv(10f64.powf(6.0 * rng.next() - 3.0));
+        let m_a = conv(10f64.powf(6.0 * rng.random::<f64>() - 3.0));
+        let m_b = conv(10f64.powf(6.0 * rng.random::<f64>() - 3.0));
         out.push((
             Body::new(m_a, v_a).unwrap(),
             Body::new(m_b, v_b).unwrap(),

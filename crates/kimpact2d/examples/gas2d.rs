@@ -10,6 +10,8 @@
 
 use kimpact2d::prelude::*;
 use kimpact2d::rapier::prelude::*;
+use rand::rngs::Xoshiro256PlusPlus;
+use rand::{RngExt, SeedableRng};
 
 fn run(mode: Mode) -> (f32, f32, u64) {
     let mut bodies = RigidBodySet::new();
@@ -38,11 +40,8 @@ fn run(mode: Mode) -> (f32, f32, u64) {
             .friction(0.0);
         colliders.insert_with_parent(collider, wall, &mut bodies);
     }
-    let mut seed = 7u32;
-    let mut rnd = || {
-        seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-        (seed >> 8) as f32 / (1u32 << 24) as f32 * 2.0 - 1.0
-    };
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(7);
+    let mut rnd = || rng.random_range(-1.0f32..1.0);
     for i in 0..200 {
         let p = Vector::new(-14.0 + 2.0 * (i % 15) as f32, -14.0 + 2.0 * (i / 15) as f32);
         let v = Vector::new(3.0 * rnd(), 3.0 * rnd());

@@ -152,7 +152,7 @@ pub(crate) fn for_each_leaf(tree: &Bvh, mut f: impl FnMut(u32, &BvhNode)) {
 mod tests {
     use super::*;
     use crate::math::{DIM, Vector};
-    use crate::test_rng::Lcg;
+    use crate::test_rng::TestRng;
 
     /// The leaf grid is built once a run has made its share of tree
     /// queries, and then finds for every query exactly the leaves whose box
@@ -161,7 +161,7 @@ mod tests {
     /// than the balls' boxes stay out of the grid and are still found.
     #[test]
     fn the_leaf_grid_finds_every_leaf_box_a_query_meets() {
-        let mut rng = Lcg(5);
+        let mut rng = TestRng::new(5);
         // As dense in 3D as in 2D.
         let spread = if DIM == 2 { 40.0 } else { 12.0 };
         let mut tree = Bvh::new();
@@ -225,7 +225,7 @@ mod tests {
     /// and an empty tree.
     #[test]
     fn every_leaf_is_visited_once() {
-        let mut rng = Lcg(3);
+        let mut rng = TestRng::new(3);
         let mut tree = Bvh::new();
         let mut visited = Vec::new();
         for_each_leaf(&tree, |key, _| visited.push(key));

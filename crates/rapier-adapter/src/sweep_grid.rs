@@ -243,7 +243,7 @@ impl SweepGrid {
 #[allow(clippy::unnecessary_cast)]
 mod tests {
     use super::*;
-    use crate::test_rng::Lcg;
+    use crate::test_rng::TestRng;
 
     /// Every two boxes `s < t` that meet, by brute force, in order.
     fn overlapping_pairs(boxes: &[Aabb]) -> Vec<(u32, u32)> {
@@ -264,7 +264,7 @@ mod tests {
     /// one query larger than the whole grid (a wall).
     #[test]
     fn the_sweep_grid_finds_every_overlap_once() {
-        let mut rng = Lcg(7);
+        let mut rng = TestRng::new(7);
         for size in [0.05, 0.5, 3.0] {
             let boxes: Vec<Aabb> = (0..300).map(|_| rng.aabb(10.0, size)).collect();
             let mut queries: Vec<Aabb> = (0..300).map(|_| rng.aabb(14.0, 1.0)).collect();

@@ -1,20 +1,29 @@
-//! The tests' deterministic generator.
+//! The tests' deterministic generator: `rand`'s portable Xoshiro256++,
+//! seeded (the one generator of the workspace's tests, benches and scene
+//! generators).
+
+use rand::rngs::Xoshiro256PlusPlus;
+use rand::{RngExt, SeedableRng};
 
 use crate::math::{DIM, Real, Vector};
 use crate::rapier::prelude::Aabb;
 
-/// A small deterministic generator (an LCG).
-#[allow(clippy::unnecessary_cast)]
-pub(crate) struct Lcg(pub(crate) u64);
-#[allow(clippy::unnecessary_cast)]
-impl Lcg {
-    pub(crate) fn next(&mut self) -> Real {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((self.0 >> 11) as f64 / (1u64 << 53) as f64) as Real
+/// A seeded generator of numbers and boxes for the unit tests.
+pub(crate) struct TestRng(Xoshiro256PlusPlus);
+
+impl TestRng {
+    /// The generator of `seed`.
+    pub(crate) fn new(seed: u64) -> Self {
+        Self(Xoshiro256PlusPlus::seed_from_u64(seed))
     }
+
+    /// Uniform in `[0, 1)`.
+    pub(crate) fn next(&mut self) -> Real {
+        self.0.random::<Real>()
+    }
+
+    /// A box with its lower corner uniform in `[0, spread)` and its extent
+    /// uniform in `[0, size)` on each axis.
     pub(crate) fn aabb(&mut self, spread: Real, size: Real) -> Aabb {
         let mut lo = Vector::ZERO;
         let mut ext = Vector::ZERO;

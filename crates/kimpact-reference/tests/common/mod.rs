@@ -1,23 +1,28 @@
-//! Helpers shared by the integration tests: a deterministic generator,
-//! random non-overlapping configurations and invariant checks.
+//! Helpers shared by the integration tests: random non-overlapping
+//! configurations (from a seeded `rand` generator) and invariant checks.
 #![allow(dead_code)]
 
 use kimpact_reference::nalgebra::SVector;
 use kimpact_reference::{Ball, BoxBounds, Reference};
+use rand::rngs::Xoshiro256PlusPlus;
+use rand::{RngExt, SeedableRng};
 
-/// A small deterministic generator (xorshift), so the tests need no rand.
-pub struct Rng(pub u64);
+/// The tests' deterministic generator: `rand`'s portable Xoshiro256++,
+/// seeded.
+pub struct Rng(Xoshiro256PlusPlus);
 
 impl Rng {
-    /// Uniform in [0, 1).
-    pub fn next(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    /// The generator of `seed`.
+    pub fn new(seed: u64) -> Self {
+        Self(Xoshiro256PlusPlus::seed_from_u64(seed))
     }
 
-    /// Uniform in [lo, hi).
+    /// Uniform in [0, 1).
+    pub fn next(&mut self) -> f64 {
+        self.0.random()
+    }
+
+    /// Uniform in [lo, hi) (`lo` when the range is empty).
     pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
         lo + (hi - lo) * self.next()
     }
@@ -40,7 +45,7 @@ pub fn lattice_gas<const D: usize>(
     (m_min, m_max): (f64, f64),
     v: f64,
 ) -> Vec<Ball<D>> {
-    let mut rng = Rng(seed);
+    let mut rng = Rng::new(seed);
     let per_axis = (n as f64).powf(1.0 / D as f64).ceil() as usize;
     let size = bounds.size();
     let spacing = size.min() / per_axis as f64;

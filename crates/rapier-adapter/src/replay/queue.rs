@@ -185,7 +185,7 @@ impl PairQueue {
 #[allow(clippy::unnecessary_cast)]
 mod tests {
     use super::*;
-    use crate::test_rng::Lcg;
+    use crate::test_rng::TestRng;
 
     /// The pair queue always yields its earliest entry (ties by rank, then
     /// by pair index), with one entry per pair, through random insertions,
@@ -194,7 +194,7 @@ mod tests {
     /// the two heaps: against a plain list.
     #[test]
     fn the_pair_queue_keeps_the_earliest_first() {
-        let mut rng = Lcg(11);
+        let mut rng = TestRng::new(11);
         let mut queue = PairQueue::default();
         queue.clear();
         let mut meetings: Vec<Option<(Real, Real)>> = vec![None; 60];
