@@ -10,6 +10,8 @@ use std::fmt;
 use std::path::Path;
 
 use kimpact::{Law, LawError, LawParams};
+use rand::rngs::Xoshiro256PlusPlus;
+use rand::{RngExt, SeedableRng};
 use serde::Deserialize;
 
 pub use kimpact::{FixedPartner, Mode, Precision};
@@ -215,7 +217,8 @@ pub struct GeneratorFile {
     pub materials: Option<Vec<String>>,
     /// A random velocity of this speed is added to each body.
     pub speed: Option<f64>,
-    /// Seed of the random directions (default 1).
+    /// Seed of the random directions (default 1): `rand`'s
+    /// `Xoshiro256PlusPlus::seed_from_u64`.
     pub seed: Option<u64>,
 }
 
@@ -800,23 +803,21 @@ impl Checker<'_> {
     /// (`law.dissipation`), and one that f32 cannot hold is an error in an
     /// f32 scene (it would reach the adapter as infinity).
     fn law(&self, at: &str, params: LawParams<f64>) -> Check<()> {
-        let result = match (Law::new(params), self.precision) {
-            (Err(e), _) => Err((e, false)),
-            (Ok(_), Precision::F64) => Ok(()),
-            (Ok(_), Precision::F32) => Law::new(params.map(|x| x as f32))
-                .map(drop)
-                .map_err(|e| (e, true)),
+        // One check, in the precision the adapter will build the law in.
+        let result = match self.precision {
+            Precision::F64 => Law::new(params).map(drop),
+            Precision::F32 => Law::new(params.map(|x| x as f32)).map(drop),
         };
         match result {
             Ok(()) => Ok(()),
-            Err((LawError::InvalidDissipation { parameter, value }, narrowed)) => {
+            Err(LawError::InvalidDissipation { parameter, .. }) => {
                 let field = format!("{at}.{parameter}");
-                if narrowed {
-                    let written = if parameter == "wall_dissipation" {
-                        params.wall_dissipation.unwrap_or(params.dissipation)
-                    } else {
-                        params.dissipation
-                    };
+                let written = if parameter == "wall_dissipation" {
+                    params.wall_dissipation.unwrap_or(params.dissipation)
+                } else {
+                    params.dissipation
+                };
+                if written.is_finite() && written >= 0.0 {
                     self.err(
                         &field,
                         format!(
@@ -825,10 +826,10 @@ impl Checker<'_> {
                         ),
                     )
                 } else {
-                    self.err(&field, format!("must be finite and >= 0, got {value}"))
+                    self.err(&field, format!("must be finite and >= 0, got {written}"))
                 }
             }
-            Err((e, _)) => self.err(at, e.to_string()),
+            Err(e) => self.err(at, e.to_string()),
         }
     }
 
@@ -1109,7 +1110,7 @@ impl Checker<'_> {
                 "the template is fixed: fixed bodies cannot move",
             );
         }
-        let mut rng = SplitMix(g.seed.unwrap_or(1));
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(g.seed.unwrap_or(1));
         let mut index = vec![0u64; self.dim];
         for n in 0..total as usize {
             let mut b = base.clone();
@@ -1129,7 +1130,7 @@ impl Checker<'_> {
                 b.material = Some(materials[n % materials.len()]);
             }
             if speed > 0.0 {
-                let dir = rng.direction(self.dim);
+                let dir = direction(&mut rng, self.dim);
                 for (v, d) in b.velocity.iter_mut().zip(&dir) {
                     *v += speed * d;
                 }
@@ -1170,31 +1171,15 @@ impl Checker<'_> {
 /// The most bodies a scene may have.
 pub const MAX_BODIES: usize = 200_000;
 
-/// A small deterministic generator (SplitMix64) for the generators' random
-/// directions: the same seed gives the same scene on every machine.
-struct SplitMix(u64);
-
-impl SplitMix {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    fn uniform(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    /// A uniformly random unit vector (rejection sampling in the cube).
-    fn direction(&mut self, dim: usize) -> Vec<f64> {
-        loop {
-            let v: Vec<f64> = (0..dim).map(|_| 2.0 * self.uniform() - 1.0).collect();
-            let n = v.iter().map(|x| x * x).sum::<f64>().sqrt();
-            if n > 1e-3 && n <= 1.0 {
-                return v.into_iter().map(|x| x / n).collect();
-            }
+/// A uniformly random unit vector of `dim` components (rejection sampling
+/// in the cube), for the generators' random directions: the scene's seeded
+/// generator gives the same scene on every machine.
+fn direction(rng: &mut Xoshiro256PlusPlus, dim: usize) -> Vec<f64> {
+    loop {
+        let v: Vec<f64> = (0..dim).map(|_| rng.random_range(-1.0..1.0)).collect();
+        let n = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if n > 1e-3 && n <= 1.0 {
+            return v.into_iter().map(|x| x / n).collect();
         }
     }
 }
