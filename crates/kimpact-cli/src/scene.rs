@@ -149,17 +149,20 @@ impl CombineRule {
     }
 }
 
+/// An unknown combine rule name (the name given).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "unknown combine rule {0:?}: expected one of \"average\", \"min\", \"multiply\", \"max\", \"clamped_sum\", \"geometric_mean\""
+)]
+pub struct ParseCombineRuleError(pub String);
+
 impl std::str::FromStr for CombineRule {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = ParseCombineRuleError;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
         CombineRule::ALL
             .into_iter()
             .find(|r| r.name() == s)
-            .ok_or_else(|| {
-                format!(
-                    "unknown combine rule {s:?}: expected one of \"average\", \"min\", \"multiply\", \"max\", \"clamped_sum\", \"geometric_mean\""
-                )
-            })
+            .ok_or_else(|| ParseCombineRuleError(s.to_owned()))
     }
 }
 
