@@ -9,7 +9,6 @@
 //! separate: the law modes should cost about what native rapier does.
 #![allow(clippy::useless_conversion, clippy::unnecessary_cast, dead_code)]
 
-
 macro_rules! variant {
     ($name:ident, $k:ident) => {
         mod $name {
