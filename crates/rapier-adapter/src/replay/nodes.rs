@@ -340,10 +340,11 @@ impl Replay {
             return (u2 - u1).length().is_nan();
         }
         let gap = (x2 - x1).length() - r1 - r2;
-        // Overlapping already and not approaching (bodies spawned into
-        // each other, or a pile rapier's solver is separating): rapier's to
-        // separate, not an impact.
-        if gap < 0.0 && (u2 - u1).dot(x2 - x1) >= 0.0 {
+        // Overlapping deeply already (by more than half the smaller
+        // bounding radius: bodies spawned into each other, not a pile's
+        // resting overlap) and not approaching: rapier's to separate, not
+        // an impact.
+        if gap < -0.5 * r1.min(r2) && (u2 - u1).dot(x2 - x1) >= 0.0 {
             return false;
         }
         let reach = (v2 - v1).length() * dt * (1.0 + 2.0 * PRE_HORIZON);
