@@ -11,10 +11,11 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Duration;
 
 use bevy::ecs::message::Messages;
+use bevy::ecs::schedule::ScheduleLabel;
 use bevy::ecs::system::SystemParam;
 use bevy::prelude::*;
 use bevy::time::TimeUpdateStrategy;
-use bk::bevy_rapier::pipeline::ContactModificationContextView;
+use bk::bevy_rapier::pipeline::{ContactModificationContextView, PairFilterContextView};
 use bk::bevy_rapier::prelude::*;
 use bk::prelude::*;
 
@@ -59,11 +60,13 @@ enum Timing {
     /// `TimestepMode::Variable` (max_dt = 1/60, this many substeps) in
     /// `PostUpdate`.
     Variable(usize),
+    /// `TimestepMode::Interpolated` in `PostUpdate`: rounds of dt =
+    /// 1/60 / `rounds` (so `rounds` of them a frame on average), of `substeps`
+    /// steps each; the bodies carry `TransformInterpolation`.
+    Interpolated { rounds: f32, substeps: usize },
     /// bevy_rapier and kimpact in `FixedUpdate` at 60 Hz, `TimestepMode::Fixed`
     /// with this many substeps.
     FixedUpdate(usize),
-    /// bevy_rapier in `FixedUpdate`, kimpact (wrongly) in `PostUpdate`.
-    Mismatched,
 }
 
 impl Timing {
@@ -72,37 +75,63 @@ impl Timing {
             Timing::Fixed(substeps) | Timing::FixedUpdate(substeps) => {
                 TimestepMode::Fixed { dt: DT, substeps }
             }
-            Timing::Mismatched => TimestepMode::Fixed {
-                dt: DT,
-                substeps: 1,
-            },
             Timing::Variable(substeps) => TimestepMode::Variable {
                 max_dt: DT,
                 time_scale: 1.0,
                 substeps,
             },
+            Timing::Interpolated { rounds, substeps } => TimestepMode::Interpolated {
+                dt: DT / rounds,
+                time_scale: 1.0,
+                substeps,
+            },
         }
-    }
-
-    /// bevy_rapier in `FixedUpdate`.
-    fn in_fixed_update(self) -> bool {
-        matches!(self, Timing::FixedUpdate(_) | Timing::Mismatched)
     }
 }
 
-/// A user's own hooks: count the calls for colliders they flagged.
+/// A user's hooks: count the `modify_solver_contacts` calls for colliders
+/// they flagged, and let ghosts (flagged `FILTER_CONTACT_PAIRS`) touch
+/// nothing.
 #[derive(Resource, Default, Clone)]
 struct UserCalls(Arc<AtomicUsize>);
 
+#[derive(Component)]
+struct Ghost;
+
 #[derive(SystemParam)]
-struct UserHooks<'w> {
+struct UserHooks<'w, 's> {
     calls: Res<'w, UserCalls>,
+    ghosts: Query<'w, 's, (), With<Ghost>>,
 }
 
-impl BevyPhysicsHooks for UserHooks<'_> {
+impl BevyPhysicsHooks for UserHooks<'_, '_> {
+    fn filter_contact_pair(&self, context: PairFilterContextView) -> Option<SolverFlags> {
+        let ghost = |e| self.ghosts.contains(e);
+        if ghost(context.collider1()) || ghost(context.collider2()) {
+            None
+        } else {
+            Some(SolverFlags::COMPUTE_RIGID_IMPULSES)
+        }
+    }
+
     fn modify_solver_contacts(&self, _context: ContactModificationContextView) {
         self.calls.0.fetch_add(1, Ordering::Relaxed);
     }
+}
+
+/// How bevy_rapier is added beside (or instead of) kimpact.
+#[derive(Copy, Clone, Debug, PartialEq)]
+enum Rapier {
+    /// `KimpactPlugin` adds it (the drop-in).
+    ByKimpact,
+    /// No kimpact: `RapierPhysicsPlugin::<NoUserData>` alone.
+    Alone,
+    /// The user's `RapierPhysicsPlugin::<NoUserData>` added before
+    /// `KimpactPlugin` (a mistake kimpact tells and stands aside from).
+    AlsoBefore,
+    /// bevy_rapier's own step system added by hand beside kimpact's (the
+    /// same mistake, found when the app is finished).
+    OwnStepByHand,
 }
 
 /// A headless test app without gravity: `MinimalPlugins`, bevy_rapier and
@@ -110,45 +139,44 @@ impl BevyPhysicsHooks for UserHooks<'_> {
 /// `PostUpdate` unless a test says otherwise.
 #[derive(Clone)]
 struct Setup {
-    /// `None`: the same app without kimpact.
-    settings: Option<KimpactSettings>,
+    settings: KimpactSettings,
     timing: Timing,
+    rapier: Rapier,
     user_hooks: bool,
 }
 
 impl Setup {
     fn new() -> Self {
         Self {
-            settings: Some(KimpactSettings::default()),
+            settings: KimpactSettings::default(),
             timing: Timing::Fixed(1),
+            rapier: Rapier::ByKimpact,
             user_hooks: false,
         }
     }
 
     /// The same app without kimpact.
     fn without_kimpact() -> Self {
-        Self {
-            settings: None,
-            ..Self::new()
-        }
+        Self::new().rapier(Rapier::Alone)
     }
 
     fn mode(mut self, mode: Mode) -> Self {
-        if let Some(s) = &mut self.settings {
-            s.mode = mode;
-        }
+        self.settings.mode = mode;
         self
     }
 
     fn law(mut self, law: LawParams<f32>) -> Self {
-        if let Some(s) = &mut self.settings {
-            s.law = law;
-        }
+        self.settings.law = law;
         self
     }
 
     fn timing(mut self, timing: Timing) -> Self {
         self.timing = timing;
+        self
+    }
+
+    fn rapier(mut self, rapier: Rapier) -> Self {
+        self.rapier = rapier;
         self
     }
 
@@ -160,7 +188,8 @@ impl Setup {
 
     fn build(&self) -> Test {
         let mut app = App::new();
-        app.add_plugins((MinimalPlugins, TransformPlugin));
+        app.add_plugins((MinimalPlugins, TransformPlugin))
+            .init_resource::<UserCalls>();
         let init = RapierContextInitialization::InitializeDefaultRapierContext {
             integration_parameters: Default::default(),
             rapier_configuration: RapierConfiguration {
@@ -169,45 +198,66 @@ impl Setup {
             },
             broad_phase_optimization_strategy: Default::default(),
         };
-        let fixed = self.timing.in_fixed_update();
-        let kimpact = if self.timing == Timing::FixedUpdate(1) {
-            KimpactPlugin::default().in_fixed_schedule()
+        let fixed = matches!(self.timing, Timing::FixedUpdate(_));
+        let kimpact = KimpactPlugin::default();
+        let kimpact = if fixed {
+            kimpact.in_fixed_schedule()
         } else {
-            KimpactPlugin::default()
+            kimpact
         };
-        match (&self.settings, self.user_hooks) {
-            (Some(_), false) => {
-                let rapier =
-                    RapierPhysicsPlugin::<KimpactHooks>::default().with_custom_initialization(init);
-                if fixed {
-                    app.add_plugins((rapier.in_fixed_schedule(), kimpact));
-                } else {
-                    app.add_plugins((rapier, kimpact));
-                }
+        let plain = || {
+            let rapier = RapierPhysicsPlugin::<NoUserData>::default()
+                .with_custom_initialization(init.clone());
+            if fixed {
+                rapier.in_fixed_schedule()
+            } else {
+                rapier
             }
-            (Some(_), true) => {
-                assert!(!fixed);
-                app.init_resource::<UserCalls>().add_plugins((
-                    RapierPhysicsPlugin::<KimpactHooks<UserHooks>>::default()
-                        .with_custom_initialization(init),
-                    kimpact.with_hooks::<UserHooks>(),
-                ));
+        };
+        match (self.rapier, self.user_hooks) {
+            (Rapier::ByKimpact, false) => {
+                let init = init.clone();
+                app.add_plugins(
+                    kimpact.with_rapier(move |r| r.with_custom_initialization(init.clone())),
+                );
             }
-            (None, _) => {
-                let rapier =
-                    RapierPhysicsPlugin::<NoUserData>::default().with_custom_initialization(init);
-                if fixed {
-                    app.add_plugins(rapier.in_fixed_schedule());
+            (Rapier::ByKimpact, true) => {
+                let init = init.clone();
+                app.add_plugins(
+                    kimpact
+                        .with_hooks::<UserHooks>()
+                        .with_rapier(move |r| r.with_custom_initialization(init.clone())),
+                );
+            }
+            (Rapier::Alone, _) => {
+                app.add_plugins(plain());
+            }
+            (Rapier::AlsoBefore, _) => {
+                app.add_plugins((plain(), kimpact));
+            }
+            (Rapier::OwnStepByHand, _) => {
+                let schedule = if fixed {
+                    FixedUpdate.intern()
                 } else {
-                    app.add_plugins(rapier);
-                }
+                    PostUpdate.intern()
+                };
+                let init = init.clone();
+                app.add_plugins(
+                    kimpact.with_rapier(move |r| r.with_custom_initialization(init.clone())),
+                )
+                .add_systems(
+                    schedule,
+                    RapierPhysicsPlugin::<NoUserData>::get_systems(PhysicsSet::StepSimulation),
+                );
             }
         }
-        if let Some(settings) = &self.settings {
-            app.insert_resource(settings.clone());
+        if self.rapier != Rapier::Alone {
+            app.insert_resource(self.settings.clone());
+        }
+        if fixed {
+            app.insert_resource(Time::<Fixed>::from_hz(60.0));
         }
         let frame = if fixed {
-            app.insert_resource(Time::<Fixed>::from_hz(60.0));
             Duration::from_secs_f64(1.0 / 60.0)
         } else {
             Duration::from_secs_f32(DT)
@@ -215,13 +265,17 @@ impl Setup {
         app.insert_resource(TimeUpdateStrategy::ManualDuration(frame))
             .insert_resource(self.timing.timestep_mode());
         app.finish();
-        Test { app }
+        Test {
+            app,
+            timing: self.timing,
+        }
     }
 }
 
 /// A test app, with the bodies' helpers.
 struct Test {
     app: App,
+    timing: Timing,
 }
 
 /// A frictionless elastic (for rapier) ball that never sleeps.
@@ -256,6 +310,7 @@ impl Ball {
 
 impl Test {
     fn spawn(&mut self, b: Ball) -> Entity {
+        let interpolated = matches!(self.timing, Timing::Interpolated { .. });
         let mut e = self.app.world_mut().spawn((
             RigidBody::Dynamic,
             Collider::ball(b.r),
@@ -264,10 +319,14 @@ impl Test {
             Friction::coefficient(0.0),
             Velocity::linear(b.v),
             Sleeping::disabled(),
+            ActiveEvents::COLLISION_EVENTS,
             at(b.p),
         ));
         if b.marked {
             e.insert(KimpactCollider::default());
+        }
+        if interpolated {
+            e.insert(TransformInterpolation::default());
         }
         e.id()
     }
@@ -344,15 +403,25 @@ impl Test {
 
     /// Run `frames` updates, collecting the impact messages.
     fn run(&mut self, frames: usize) -> Vec<ImpactMessage> {
-        let mut out = Vec::new();
+        self.run_with_collisions(frames).0
+    }
+
+    /// Run `frames` updates, collecting the impact messages and bevy_rapier's
+    /// collision events.
+    fn run_with_collisions(&mut self, frames: usize) -> (Vec<ImpactMessage>, Vec<CollisionEvent>) {
+        let mut impacts = Vec::new();
+        let mut collisions = Vec::new();
         for _ in 0..frames {
             self.app.update();
             let world = self.app.world_mut();
             if let Some(mut messages) = world.get_resource_mut::<Messages<ImpactMessage>>() {
-                out.extend(messages.drain());
+                impacts.extend(messages.drain());
+            }
+            if let Some(mut messages) = world.get_resource_mut::<Messages<CollisionEvent>>() {
+                collisions.extend(messages.drain());
             }
         }
-        out
+        (impacts, collisions)
     }
 }
 
@@ -428,6 +497,10 @@ fn exact_newtons_cradle_passes_the_velocity_down_the_row() {
         Timing::Fixed(1),
         Timing::Variable(1),
         Timing::FixedUpdate(1),
+        Timing::Interpolated {
+            rounds: 1.0,
+            substeps: 1,
+        },
     ] {
         let c = cradle(Setup::new().timing(timing));
         assert_law_cradle(&c, timing);
@@ -435,32 +508,49 @@ fn exact_newtons_cradle_passes_the_velocity_down_the_row() {
 }
 
 #[test]
-fn several_steps_per_frame_run_rapier_natively_without_losing_the_mode() {
-    let c = cradle(Setup::new().timing(Timing::Fixed(2)));
-    assert!(c.messages.is_empty(), "kimpact took part: {:?}", c.messages);
-    let state = c.test.state();
-    assert_eq!(state.mode(), Mode::Exact);
-    assert_eq!(state.stats().impacts, 0);
-    // rapier's own cradle does not pass the velocity down the row.
-    assert!(
-        c.test.vel(c.balls[5]).x < 0.9,
-        "{:?}",
-        c.test.vel(c.balls[5])
-    );
-}
-
-#[test]
-fn kimpact_outside_bevy_rapiers_schedule_leaves_rapier_alone() {
-    // The stages run with no step between them: kimpact warns and stands
-    // aside (its hook passes every pair to rapier), nothing breaks.
-    let c = cradle(Setup::new().timing(Timing::Mismatched));
-    assert!(c.messages.is_empty(), "{:?}", c.messages);
-    assert!(
-        c.test.vel(c.balls[5]).x < 0.9,
-        "{:?}",
-        c.test.vel(c.balls[5])
-    );
-    assert!(c.e1 <= c.e0 * (1.0 + 1e-6), "energy {} -> {}", c.e0, c.e1);
+fn every_step_of_a_frame_of_several_follows_the_law() {
+    // Substeps, and rounds of `Interpolated` (two or three a frame).
+    let timings = [
+        Timing::Fixed(3),
+        Timing::Variable(3),
+        Timing::FixedUpdate(2),
+        Timing::Interpolated {
+            rounds: 2.5,
+            substeps: 1,
+        },
+        Timing::Interpolated {
+            rounds: 3.0,
+            substeps: 2,
+        },
+    ];
+    for timing in timings {
+        let c = cradle(Setup::new().timing(timing));
+        assert_law_cradle(&c, timing);
+        // kimpact's stages ran around every pipeline step: the frames of the
+        // run (the first update and the cradle's) at the steps per frame.
+        let steps = c.test.state().stats().steps;
+        let frames = CRADLE_FRAMES as u64 + 1;
+        let expect = match timing {
+            Timing::Fixed(n) => frames * n as u64,
+            // Variable's first frame has no time (no step).
+            Timing::Variable(n) => (frames - 1) * n as u64,
+            // One fixed tick a frame but the first.
+            Timing::FixedUpdate(n) => (frames - 1) * n as u64,
+            Timing::Interpolated { rounds, substeps } => {
+                ((frames - 1) as f32 * rounds).round() as u64 * substeps as u64
+            }
+        };
+        // Interpolated's rounds follow the render by float sums: one round
+        // more or less.
+        let slack = match timing {
+            Timing::Interpolated { substeps, .. } => substeps as u64,
+            _ => 0,
+        };
+        assert!(
+            steps.abs_diff(expect) <= slack,
+            "{timing:?}: {steps} steps through kimpact, {expect} expected"
+        );
+    }
 }
 
 /// A gas of `n` balls (restitution 1, no friction) in a closed box; the
@@ -540,12 +630,29 @@ fn an_elastic_gas_keeps_its_energy_in_exact_mode() {
     assert_gas_keeps_its_energy(Timing::Fixed(1), 600);
 }
 
-/// Bits of every ball's position, rotation and velocity after `frames`.
-fn gas_bits(setup: Setup, frames: usize) -> Vec<u32> {
+#[test]
+fn an_elastic_gas_keeps_its_energy_over_substeps() {
+    // The same 10 s, in steps of half the frame.
+    assert_gas_keeps_its_energy(Timing::Fixed(2), 600);
+    assert_gas_keeps_its_energy(Timing::Variable(2), 600);
+}
+
+/// Bits of every ball's position, rotation and velocity after `frames` (and
+/// of the context's dt and time behind the render), and bevy_rapier's
+/// collision events.
+fn gas_bits(setup: Setup, frames: usize) -> (Vec<u32>, Vec<CollisionEvent>) {
     let mut test = setup.build();
     let balls = gas(&mut test, 100);
-    test.run(frames);
-    let mut bits = Vec::new();
+    let (_, collisions) = test.run_with_collisions(frames);
+    let world = test.app.world_mut();
+    let (simulation, to_render) = world
+        .query::<(&RapierContextSimulation, &SimulationToRenderTime)>()
+        .single(world)
+        .expect("one context");
+    let mut bits = vec![
+        simulation.integration_parameters.dt.to_bits(),
+        to_render.diff.to_bits(),
+    ];
     for &(b, _) in &balls {
         let world = test.app.world();
         let t = world.get::<Transform>(b).unwrap();
@@ -558,15 +665,65 @@ fn gas_bits(setup: Setup, frames: usize) -> Vec<u32> {
         #[cfg(feature = "dim3")]
         bits.extend(v.angular.to_array().map(f32::to_bits));
     }
-    bits
+    (bits, collisions)
 }
 
 #[test]
 fn native_mode_leaves_bevy_rapier_unchanged_bit_for_bit() {
-    let without = gas_bits(Setup::without_kimpact(), 200);
-    assert_eq!(gas_bits(Setup::new().mode(Mode::Native), 200), without);
-    // The comparison can tell: kimpact's law changes this scene.
-    assert_ne!(gas_bits(Setup::new(), 200), without);
+    // kimpact's step system runs bevy_rapier's steps one by one: the same
+    // bodies (interpolated ones too) and collision events as bevy_rapier's
+    // own step system, in every timestep mode. The reference is the same
+    // app with bevy_rapier's own step (kimpact standing aside): bevy_rapier's
+    // results change by rounding with the app's archetypes (one more
+    // resource is enough), so the two apps have the same plugins.
+    let timings = [
+        Timing::Fixed(1),
+        Timing::Fixed(3),
+        Timing::Variable(2),
+        Timing::Interpolated {
+            rounds: 2.5,
+            substeps: 2,
+        },
+        Timing::FixedUpdate(2),
+    ];
+    for timing in timings {
+        let rapiers = gas_bits(Setup::new().rapier(Rapier::AlsoBefore).timing(timing), 200);
+        assert!(!rapiers.1.is_empty(), "{timing:?}: no collision event");
+        let native = gas_bits(Setup::new().mode(Mode::Native).timing(timing), 200);
+        assert!(native.0 == rapiers.0, "{timing:?}: the bodies differ");
+        assert_eq!(
+            native.1, rapiers.1,
+            "{timing:?}: the collision events differ"
+        );
+        // The comparison can tell: kimpact's law changes this scene.
+        if timing == Timing::Fixed(1) {
+            assert_ne!(gas_bits(Setup::new().timing(timing), 200).0, rapiers.0);
+        }
+    }
+}
+
+#[test]
+fn a_rapier_plugin_beside_kimpacts_makes_kimpact_stand_aside() {
+    // A user's RapierPhysicsPlugin added before KimpactPlugin (which adds
+    // its own), or bevy_rapier's step system added by hand: kimpact logs an
+    // error and steps nothing, bevy_rapier runs as without it (not twice:
+    // the same bodies to rounding, see the native test).
+    let without = cradle(Setup::without_kimpact());
+    for rapier in [Rapier::AlsoBefore, Rapier::OwnStepByHand] {
+        let c = cradle(Setup::new().rapier(rapier));
+        assert!(c.messages.is_empty(), "{rapier:?}: {:?}", c.messages);
+        let state = c.test.state();
+        assert_eq!(state.stats().steps, 0, "{rapier:?}");
+        assert!(!state.is_marked(c.balls[0]), "{rapier:?}");
+        for (&b, &w) in c.balls.iter().zip(&without.balls) {
+            let (p, pw) = (c.test.pos(b), without.test.pos(w));
+            let (v, vw) = (c.test.vel(b), without.test.vel(w));
+            assert!((p - pw).length() < 1e-5, "{rapier:?}: {p:?} vs {pw:?}");
+            assert!((v - vw).length() < 1e-5, "{rapier:?}: {v:?} vs {vw:?}");
+        }
+        // rapier's own cradle does not pass the velocity down the row.
+        assert!(c.test.vel(c.balls[5]).x < 0.9, "{rapier:?}");
+    }
 }
 
 #[test]
@@ -728,6 +885,65 @@ fn the_users_hooks_are_chained() {
 }
 
 #[test]
+fn the_users_contact_filter_decides_marked_and_unmarked_pairs() {
+    // Ghosts (the user's filter_contact_pair) pass through a marked ball
+    // and an unmarked one; the same pairs without the ghost meet (by the law
+    // and by rapier), in every timestep mode.
+    for timing in [
+        Timing::Fixed(1),
+        Timing::Variable(2),
+        Timing::Interpolated {
+            rounds: 2.0,
+            substeps: 1,
+        },
+    ] {
+        let mut test = Setup::new().user_hooks().timing(timing).build();
+        let mut pairs = Vec::new();
+        for (row, (marked, ghost)) in [(true, true), (false, true), (true, false), (false, false)]
+            .into_iter()
+            .enumerate()
+        {
+            let y = 3.0 * row as f32;
+            let mut first = Ball::at(vect(0.0, y, 0.0), vect(1.0, 0.0, 0.0));
+            let mut second = Ball::at(vect(1.3, y, 0.0), Vect::ZERO);
+            if !marked {
+                (first, second) = (first.unmarked(), second.unmarked());
+            }
+            let (a, b) = (test.spawn(first), test.spawn(second));
+            if ghost {
+                test.app
+                    .world_mut()
+                    .entity_mut(a)
+                    .insert((Ghost, ActiveHooks::FILTER_CONTACT_PAIRS));
+            }
+            pairs.push((a, b));
+        }
+        let messages = test.run(180);
+        let [marked_ghost, ghost, marked, rapier] = pairs[..] else {
+            unreachable!()
+        };
+        for (a, b) in [marked_ghost, ghost] {
+            assert_eq!(test.vel(a).x, 1.0, "{timing:?}: the ghost was touched");
+            assert_eq!(test.vel(b).x, 0.0, "{timing:?}: the ghost touched");
+            assert!(test.pos(a).x > test.pos(b).x + 1.0, "{timing:?}: no pass");
+        }
+        for (a, b) in [marked, rapier] {
+            assert!(test.vel(a).x.abs() < 1e-3, "{timing:?}: {:?}", test.vel(a));
+            assert!((test.vel(b).x - 1.0).abs() < 1e-3, "{timing:?}");
+        }
+        // One impact, the marked pair's without a ghost.
+        let named: Vec<_> = messages
+            .iter()
+            .map(|m| (m.collider1, m.collider2))
+            .collect();
+        assert!(
+            named == [marked] || named == [(marked.1, marked.0)],
+            "{timing:?}: {named:?}"
+        );
+    }
+}
+
+#[test]
 fn another_rapier_context_keeps_rapiers_response_and_the_users_hooks() {
     let mut test = Setup::new().user_hooks().build();
     test.app.update();
@@ -821,4 +1037,33 @@ fn a_colliders_material_gives_its_pairs_their_own_law() {
         .unwrap()
         .0;
     assert_eq!(test.state().kimpact().material(handle), Some(lossy));
+}
+
+#[test]
+fn a_non_finite_body_is_quarantined_as_bevy_rapier_does() {
+    // A marked ball whose velocity becomes NaN on a collision course: no
+    // panic, rapier's quarantine disables it (RigidBodyDisabled, as
+    // bevy_rapier's own step system marks it), the others keep going.
+    for setup in [Setup::without_kimpact(), Setup::new()] {
+        let mut test = setup.build();
+        let a = test.ball(vect(0.0, 0.0, 0.0), vect(1.0, 0.0, 0.0));
+        let b = test.ball(vect(1.3, 0.0, 0.0), Vect::ZERO);
+        let c = test.ball(vect(0.0, 4.0, 0.0), vect(1.0, 0.0, 0.0));
+        test.run(2);
+        test.app
+            .world_mut()
+            .get_mut::<Velocity>(a)
+            .unwrap()
+            .linear
+            .x = f32::NAN;
+        test.run(30);
+        let world = test.app.world();
+        assert!(
+            world.get::<RigidBodyDisabled>(a).is_some(),
+            "a is not quarantined"
+        );
+        assert!(world.get::<RigidBodyDisabled>(c).is_none());
+        assert!(test.vel(c).x == 1.0 && test.pos(c).x > 0.4);
+        let _ = b;
+    }
 }
