@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # The Bevy plugins (CI step): formatting, lints, tests, the headless examples,
 # docs and packages of bevy_kimpact2d and bevy_kimpact3d, in their own
-# workspace.
+# workspace. The windowed examples (feature `windowed`) are not built here:
+# bevy's renderer and winit take longer to build than all of this (see
+# README.md).
 #
 # bevy 0.20 asks for rustc 1.97.1, newer than the main workspace's stable
 # toolchain: this runs the nightly toolchain with --ignore-rust-version
