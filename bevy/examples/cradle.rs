@@ -45,16 +45,13 @@ fn cradle(with_kimpact: bool) -> Vec<f32> {
     let mut app = App::new();
     app.add_plugins((MinimalPlugins, TransformPlugin));
     if with_kimpact {
-        // The two lines a bevy_rapier app adds (and `KimpactCollider` below).
-        app.add_plugins((
-            RapierPhysicsPlugin::<KimpactHooks>::default(),
-            KimpactPlugin::default(),
-        ))
-        .insert_resource(KimpactSettings {
-            mode: Mode::Exact,
-            law: LawParams::default(),
-        })
-        .add_systems(PostUpdate, print_impacts.after(KimpactSet::AfterStep));
+        // In place of RapierPhysicsPlugin (and `KimpactCollider` below).
+        app.add_plugins(KimpactPlugin::default())
+            .insert_resource(KimpactSettings {
+                mode: Mode::Exact,
+                law: LawParams::default(),
+            })
+            .add_systems(PostUpdate, print_impacts.after(KimpactSet::Step));
     } else {
         app.add_plugins(RapierPhysicsPlugin::<NoUserData>::default());
     }

@@ -11,12 +11,14 @@
 //! rapier, bevy_rapier and kimpact's adapters build theirs; [`bevy_rapier`]
 //! and [`kimpact_rapier`] are the crates it was built against.
 //!
-//! A bevy_rapier app gets kimpact with three changes:
+//! A bevy_rapier app gets kimpact with two changes: [`KimpactPlugin`] in
+//! place of `RapierPhysicsPlugin` (it adds bevy_rapier's plugin itself),
+//! and [`KimpactCollider`] on the colliders that follow the law:
 //!
 //! ```text
 //!  app.add_plugins((
+//!      MinimalPlugins,
 //! -    RapierPhysicsPlugin::<NoUserData>::default(),
-//! +    RapierPhysicsPlugin::<KimpactHooks>::default(),
 //! +    KimpactPlugin::default(),
 //!  ));
 //!  commands.spawn((RigidBody::Dynamic, Collider::ball(0.5), /* … */
@@ -24,13 +26,14 @@
 //!  ));
 //! ```
 //!
-//! - [`KimpactPlugin`] runs kimpact's three stages around bevy_rapier's step:
-//!   before it (after [`PhysicsSet::SyncBackend`]), inside it (kimpact's
-//!   contact hook, through bevy_rapier's hooks parameter [`KimpactHooks`],
-//!   which chains your own `BevyPhysicsHooks`: `KimpactHooks<MyHooks>`), and
-//!   after it (after [`PhysicsSet::StepSimulation`], before
-//!   [`PhysicsSet::Writeback`], so that bevy_rapier writes kimpact's
-//!   positions and velocities back to your components).
+//! - [`KimpactPlugin`] adds bevy_rapier's plugin with its systems but its
+//!   step, and a step system of its own in [`PhysicsSet::StepSimulation`]:
+//!   it steps every rapier context as bevy_rapier would, and runs each
+//!   pipeline step of the governed context between kimpact's stages
+//!   (every substep, every round of `TimestepMode::Interpolated`). Your own
+//!   `BevyPhysicsHooks` go to [`KimpactPlugin::with_hooks`] (named once,
+//!   instead of `RapierPhysicsPlugin::<MyHooks>`), bevy_rapier's settings
+//!   to [`KimpactPlugin::with_rapier`].
 //! - [`KimpactCollider`] on a collider's entity marks it: its contacts with
 //!   other marked colliders, and with fixed and kinematic bodies, follow the
 //!   law (the settings', or the collider's own [`Material`]). Removing the
@@ -44,13 +47,19 @@
 //!
 //! kimpact governs one rapier context: the one with
 //! [`DefaultRapierContext`](bevy_rapier::plugin::DefaultRapierContext) (or
-//! the only one). Run [`KimpactPlugin`] in the schedule bevy_rapier runs in
-//! ([`KimpactPlugin::in_fixed_schedule`] beside
-//! `RapierPhysicsPlugin::in_fixed_schedule`). kimpact takes part in frames
-//! where bevy_rapier runs one physics step (`TimestepMode::Fixed` and
-//! `Variable` with one substep, the defaults; `Interpolated` on frames with
-//! one step); frames of several steps (`substeps > 1`, or `Interpolated`
-//! catching up) run rapier's own response, with a warning.
+//! the only one); the others step as bevy_rapier steps them. It takes part
+//! in every step of `TimestepMode::Fixed`, `Variable` and `Interpolated`,
+//! substeps included, in `PostUpdate` or in a fixed schedule
+//! ([`KimpactPlugin::in_fixed_schedule`]); a context in
+//! `SimulationMode::CollisionOnly` has no contact response to replace.
+//!
+//! Do not add a `RapierPhysicsPlugin` too: added before [`KimpactPlugin`]
+//! (or its step system added by hand), kimpact logs an error and stands
+//! aside; added after it with the same hooks type, Bevy refuses it (a
+//! panic when the app is built). On frames of several steps, bevy_rapier's
+//! `RapierContextSimulation::step_stats` describe the frame's last step (each
+//! step is its own `step_simulation` call); the [`ImpactMessage`]s cover
+//! every step.
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
 
@@ -81,19 +90,19 @@ mod hooks;
 mod plugin;
 mod state;
 mod steps;
+mod systems;
 
-pub use hooks::KimpactHooks;
 pub use plugin::{ImpactMessage, KimpactCollider, KimpactPlugin, KimpactSet, KimpactSettings};
 pub use state::KimpactState;
 
 #[cfg(doc)]
 use bevy_rapier::plugin::PhysicsSet;
 
-/// What a kimpact app usually needs: the plugin, the hooks parameter, the
-/// component, the settings, the message and the mode.
+/// What a kimpact app usually needs: the plugin, the component, the
+/// settings, the message, the state and the mode.
 pub mod prelude {
     pub use crate::{
-        ImpactMessage, KimpactCollider, KimpactHooks, KimpactPlugin, KimpactSet, KimpactSettings,
-        KimpactState, LawParams, Material, Mode,
+        ImpactMessage, KimpactCollider, KimpactPlugin, KimpactSet, KimpactSettings, KimpactState,
+        LawParams, Material, Mode,
     };
 }

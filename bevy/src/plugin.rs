@@ -1,25 +1,20 @@
-//! The plugin: its component, settings, message, and the systems around
-//! bevy_rapier's step.
+//! The plugin: its component, settings, message, and how it sets up
+//! bevy_rapier with kimpact's step.
+
+use std::marker::PhantomData;
 
 use bevy::ecs::intern::Interned;
 use bevy::ecs::schedule::ScheduleLabel;
-use bevy::ecs::system::{StaticSystemParam, SystemParamItem};
+use bevy::ecs::system::{System, SystemParamItem};
+use bevy::platform::collections::HashSet;
 use bevy::prelude::*;
 
-use crate::bevy_rapier::pipeline::BevyPhysicsHooks;
-use crate::bevy_rapier::plugin::context::{
-    RapierContextColliders, RapierContextEntityLink, RapierContextJoints, RapierContextSimulation,
-    RapierRigidBodySet, SimulationToRenderTime,
-};
-use crate::bevy_rapier::plugin::{
-    DefaultRapierContext, PhysicsSet, RapierConfiguration, SimulationMode, TimestepMode,
-};
-use crate::bevy_rapier::prelude::RapierColliderHandle;
-use crate::hooks::UserHooks;
+use crate::bevy_rapier::pipeline::{BevyPhysicsHooks, CollisionEvent};
+use crate::bevy_rapier::plugin::{PhysicsSet, RapierPhysicsPlugin, systems};
 use crate::kimpact_rapier::math::Real;
 use crate::kimpact_rapier::{Config, ImpactEvent, Kimpact, Law, LawParams, Material, Mode};
-use crate::state::{KimpactState, PreparedStep};
-use crate::steps::planned_steps;
+use crate::state::KimpactState;
+use crate::systems::{mirror_quarantine, prepare, step, unmark_removed};
 
 /// Marks the collider of its entity for kimpact: the collider's contacts with
 /// other marked colliders (and with fixed and kinematic bodies, see
@@ -95,22 +90,83 @@ pub struct ImpactMessage {
 /// The plugin's systems, for ordering your own around them.
 #[derive(SystemSet, Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum KimpactSet {
-    /// Marks and unmarks colliders, applies [`KimpactSettings`], runs
-    /// kimpact's stage before the step (after [`PhysicsSet::SyncBackend`]).
+    /// Marks and unmarks colliders and applies [`KimpactSettings`] (after
+    /// [`PhysicsSet::SyncBackend`], before [`PhysicsSet::StepSimulation`]).
     BeforeStep,
-    /// Runs kimpact's stage after the step (after
-    /// [`PhysicsSet::StepSimulation`], before [`PhysicsSet::Writeback`]) and
-    /// sends the [`ImpactMessage`]s.
-    AfterStep,
+    /// kimpact's step system, in [`PhysicsSet::StepSimulation`] in place
+    /// of bevy_rapier's: it steps every rapier context as bevy_rapier
+    /// would, running kimpact's stages around each step of the governed
+    /// one, and sends the [`ImpactMessage`]s.
+    Step,
 }
 
-/// kimpact for bevy_rapier: add it beside `RapierPhysicsPlugin::<KimpactHooks>`
-/// (see the crate docs), in the same schedule.
-pub struct KimpactPlugin {
+/// Configures the bevy_rapier plugin [`KimpactPlugin`] adds.
+type ConfigureRapier<H> =
+    Box<dyn Fn(RapierPhysicsPlugin<H>) -> RapierPhysicsPlugin<H> + Send + Sync>;
+
+/// kimpact for bevy_rapier, in place of `RapierPhysicsPlugin`: it adds
+/// bevy_rapier's plugin itself (with `H`, your own `BevyPhysicsHooks`, `()`
+/// without) and steps bevy_rapier's contexts with kimpact's stages around
+/// every step (see the crate docs).
+///
+/// ```no_run
+/// # #[cfg(feature = "dim2")] use bevy_kimpact2d as bevy_kimpact;
+/// # #[cfg(feature = "dim3")] use bevy_kimpact3d as bevy_kimpact;
+/// use bevy::prelude::*;
+/// use bevy_kimpact::prelude::*;
+///
+/// App::new().add_plugins((
+///     MinimalPlugins,
+///     // RapierPhysicsPlugin::<NoUserData>::default() without kimpact.
+///     KimpactPlugin::default(),
+/// ));
+/// ```
+///
+/// Your hooks, named once ([`KimpactPlugin::with_hooks`]), and bevy_rapier's
+/// settings ([`KimpactPlugin::with_rapier`]):
+///
+/// ```no_run
+/// # #[cfg(feature = "dim2")] use bevy_kimpact2d as bevy_kimpact;
+/// # #[cfg(feature = "dim3")] use bevy_kimpact3d as bevy_kimpact;
+/// use bevy::ecs::system::SystemParam;
+/// use bevy::prelude::*;
+/// use bevy_kimpact::bevy_rapier::prelude::*;
+/// use bevy_kimpact::prelude::*;
+///
+/// #[derive(Component)]
+/// struct Ghost;
+///
+/// /// Ghosts touch nothing.
+/// #[derive(SystemParam)]
+/// struct GhostHooks<'w, 's> {
+///     ghosts: Query<'w, 's, (), With<Ghost>>,
+/// }
+///
+/// impl BevyPhysicsHooks for GhostHooks<'_, '_> {
+///     fn filter_contact_pair(&self, context: PairFilterContextView) -> Option<SolverFlags> {
+///         let ghost = |e| self.ghosts.contains(e);
+///         if ghost(context.collider1()) || ghost(context.collider2()) {
+///             None
+///         } else {
+///             Some(SolverFlags::COMPUTE_RIGID_IMPULSES)
+///         }
+///     }
+/// }
+///
+/// App::new().add_plugins((
+///     MinimalPlugins,
+///     // RapierPhysicsPlugin::<GhostHooks>::default().with_length_unit(100.0).in_fixed_schedule()
+///     KimpactPlugin::default()
+///         .with_hooks::<GhostHooks>()
+///         .with_rapier(|rapier| rapier.with_length_unit(100.0))
+///         .in_fixed_schedule(),
+/// ));
+/// ```
+pub struct KimpactPlugin<H = ()> {
     schedule: Interned<dyn ScheduleLabel>,
     config: Config,
-    /// Adds the stage systems, for the user's hooks (`with_hooks`).
-    systems: fn(&mut App, Interned<dyn ScheduleLabel>),
+    rapier: Option<ConfigureRapier<H>>,
+    hooks: PhantomData<fn() -> H>,
 }
 
 impl Default for KimpactPlugin {
@@ -118,32 +174,57 @@ impl Default for KimpactPlugin {
         Self {
             schedule: PostUpdate.intern(),
             config: Config::default(),
-            systems: add_stage_systems::<()>,
+            rapier: None,
+            hooks: PhantomData,
         }
     }
 }
 
-impl KimpactPlugin {
-    /// Your own `BevyPhysicsHooks` `H`, the same as in
-    /// [`KimpactHooks<H>`](crate::KimpactHooks): kimpact's sweeps ask their
-    /// `filter_contact_pair` whether a pair they find may touch, as rapier's
-    /// narrow phase does.
-    pub fn with_hooks<H>(mut self) -> Self
+impl<H> KimpactPlugin<H>
+where
+    H: BevyPhysicsHooks + 'static,
+    for<'w, 's> SystemParamItem<'w, 's, H>: BevyPhysicsHooks,
+{
+    /// With your own `BevyPhysicsHooks` `U` (the `U` of
+    /// `RapierPhysicsPlugin::<U>`, written once): they decide every pair's
+    /// filters (also for kimpact's sweeps, as rapier's narrow phase asks
+    /// them), and their `modify_solver_contacts` runs for the colliders you
+    /// flag with `ActiveHooks::MODIFY_SOLVER_CONTACTS`, before kimpact's
+    /// own. Drops a [`KimpactPlugin::with_rapier`] set before.
+    pub fn with_hooks<U>(self) -> KimpactPlugin<U>
     where
-        H: BevyPhysicsHooks + 'static,
-        for<'w, 's> SystemParamItem<'w, 's, H>: BevyPhysicsHooks,
+        U: BevyPhysicsHooks + 'static,
+        for<'w, 's> SystemParamItem<'w, 's, U>: BevyPhysicsHooks,
     {
-        self.systems = add_stage_systems::<H>;
+        KimpactPlugin {
+            schedule: self.schedule,
+            config: self.config,
+            rapier: None,
+            hooks: PhantomData,
+        }
+    }
+
+    /// Configures the `RapierPhysicsPlugin` this plugin adds (its length
+    /// unit, its context initialization, …): `configure` gets
+    /// `RapierPhysicsPlugin::default()` and returns it configured. Its
+    /// schedule is this plugin's ([`KimpactPlugin::in_schedule`]), and its
+    /// step system is kimpact's: what `configure` sets for those is
+    /// replaced.
+    pub fn with_rapier(
+        mut self,
+        configure: impl Fn(RapierPhysicsPlugin<H>) -> RapierPhysicsPlugin<H> + Send + Sync + 'static,
+    ) -> Self {
+        self.rapier = Some(Box::new(configure));
         self
     }
 
-    /// Run in `FixedUpdate`, as `RapierPhysicsPlugin::in_fixed_schedule` does.
+    /// Run in `FixedUpdate`, with bevy_rapier (`RapierPhysicsPlugin::in_fixed_schedule`).
     pub fn in_fixed_schedule(self) -> Self {
         self.in_schedule(FixedUpdate)
     }
 
-    /// Run in `schedule`: the one bevy_rapier's systems run in (default
-    /// `PostUpdate`, as bevy_rapier's).
+    /// Run in `schedule`, with bevy_rapier (default `PostUpdate`, as
+    /// bevy_rapier's).
     pub fn in_schedule(mut self, schedule: impl ScheduleLabel) -> Self {
         self.schedule = schedule.intern();
         self
@@ -158,307 +239,92 @@ impl KimpactPlugin {
     }
 }
 
-impl Plugin for KimpactPlugin {
+impl<H> Plugin for KimpactPlugin<H>
+where
+    H: BevyPhysicsHooks + 'static,
+    for<'w, 's> SystemParamItem<'w, 's, H>: BevyPhysicsHooks,
+{
     fn build(&self, app: &mut App) {
+        app.add_message::<ImpactMessage>()
+            .init_resource::<KimpactSettings>();
+        // bevy_rapier's plugin inserts its collision messages: one is here
+        // already, with its own step system.
+        let rapier_before = app.world().contains_resource::<Messages<CollisionEvent>>();
+        if rapier_before || app.world().contains_resource::<KimpactState>() {
+            log::error!(
+                "kimpact: a RapierPhysicsPlugin (or another KimpactPlugin) was added before KimpactPlugin, which adds bevy_rapier's plugin itself; remove it (configure bevy_rapier with KimpactPlugin::with_rapier). kimpact stands aside"
+            );
+            if !app.world().contains_resource::<KimpactState>() {
+                let mut state = KimpactState::new(Kimpact::new(Law::elastic(), Mode::Exact));
+                state.standing_aside = true;
+                app.insert_resource(state);
+            }
+            return;
+        }
         let kimpact = Kimpact::with_config(Law::elastic(), Mode::Exact, self.config)
             .unwrap_or_else(|e| {
                 log::error!("kimpact: invalid configuration ({e}); using the default");
                 Kimpact::new(Law::elastic(), Mode::Exact)
             });
-        app.add_message::<ImpactMessage>()
-            .init_resource::<KimpactSettings>()
-            .insert_resource(KimpactState::new(kimpact))
-            .configure_sets(
-                self.schedule,
-                (
-                    KimpactSet::BeforeStep
-                        .after(PhysicsSet::SyncBackend)
-                        .before(PhysicsSet::StepSimulation),
-                    KimpactSet::AfterStep
-                        .after(PhysicsSet::StepSimulation)
-                        .before(PhysicsSet::Writeback),
-                ),
-            )
-            // Every frame, whatever the physics schedule: removals are kept
-            // only two frames, and a fixed schedule may not run for longer.
-            .add_systems(PostUpdate, unmark_removed.before(KimpactSet::BeforeStep));
-        (self.systems)(app, self.schedule);
-    }
-}
+        app.insert_resource(KimpactState::new(kimpact));
 
-fn add_stage_systems<H>(app: &mut App, schedule: Interned<dyn ScheduleLabel>)
-where
-    H: BevyPhysicsHooks + 'static,
-    for<'w, 's> SystemParamItem<'w, 's, H>: BevyPhysicsHooks,
-{
-    app.add_systems(
-        schedule,
-        (
-            before_step::<H>.in_set(KimpactSet::BeforeStep),
-            after_step::<H>.in_set(KimpactSet::AfterStep),
-        ),
-    );
-}
-
-/// The context entities kimpact may govern, with what its stages need.
-type Contexts<'w, 's> = Query<
-    'w,
-    's,
-    (
-        Entity,
-        &'static mut RapierContextSimulation,
-        &'static mut RapierContextColliders,
-        &'static mut RapierRigidBodySet,
-        &'static RapierContextJoints,
-        &'static RapierConfiguration,
-        Option<&'static SimulationToRenderTime>,
-        Has<DefaultRapierContext>,
-    ),
->;
-
-/// Marked collider entities whose marker or rapier collider is new or
-/// changed.
-type NewMarks<'w, 's> = Query<
-    'w,
-    's,
-    (
-        Entity,
-        &'static KimpactCollider,
-        &'static RapierColliderHandle,
-        Option<&'static RapierContextEntityLink>,
-    ),
-    Or<(Changed<KimpactCollider>, Changed<RapierColliderHandle>)>,
->;
-
-/// The governed context: the default one, else the only one.
-fn governed(contexts: &Contexts, state: &mut KimpactState) -> Option<Entity> {
-    let mut only = None;
-    let mut count = 0usize;
-    for (entity, .., is_default) in contexts.iter() {
-        if is_default {
-            return Some(entity);
-        }
-        only = Some(entity);
-        count += 1;
-    }
-    if count > 1 {
-        if !state.warned.several_contexts {
-            state.warned.several_contexts = true;
-            log::warn!(
-                "kimpact: several rapier contexts and none is the DefaultRapierContext; kimpact governs none"
-            );
-        }
-        return None;
-    }
-    only
-}
-
-/// Unmark the colliders whose entity lost its [`KimpactCollider`] or its
-/// rapier collider (removed or despawned).
-fn unmark_removed(
-    mut state: ResMut<KimpactState>,
-    mut removed_markers: RemovedComponents<KimpactCollider>,
-    mut removed_handles: RemovedComponents<RapierColliderHandle>,
-    current: Query<&RapierColliderHandle, With<KimpactCollider>>,
-) {
-    for entity in removed_markers.read().chain(removed_handles.read()) {
-        let Some(old) = state.marks.handle(entity) else {
-            continue;
+        let rapier = RapierPhysicsPlugin::<H>::default();
+        let rapier = match &self.rapier {
+            Some(configure) => configure(rapier),
+            None => rapier,
         };
-        // Removed and inserted again since: still marked.
-        if current.get(entity).is_ok_and(|h| h.0 == old) {
-            continue;
-        }
-        state.unmark(entity);
+        // bevy_rapier's own systems but its step, which is kimpact's.
+        app.add_plugins(rapier.in_schedule(self.schedule).with_physics_sets_systems(
+            HashSet::from_iter([PhysicsSet::SyncBackend, PhysicsSet::Writeback]),
+        ));
+        app.configure_sets(
+            self.schedule,
+            (
+                KimpactSet::BeforeStep
+                    .after(PhysicsSet::SyncBackend)
+                    .before(PhysicsSet::StepSimulation),
+                KimpactSet::Step.in_set(PhysicsSet::StepSimulation),
+            ),
+        )
+        .add_systems(
+            self.schedule,
+            (
+                prepare.in_set(KimpactSet::BeforeStep),
+                (step::<H>, mirror_quarantine)
+                    .chain()
+                    .in_set(KimpactSet::Step),
+            ),
+        )
+        // Every frame, whatever the physics schedule: removals are kept
+        // only two frames, and a fixed schedule may not run for longer.
+        .add_systems(PostUpdate, unmark_removed.before(KimpactSet::BeforeStep));
     }
-}
 
-/// Before bevy_rapier's step: marks, settings, kimpact's first stage.
-#[allow(clippy::too_many_arguments)]
-fn before_step<H>(
-    mut state: ResMut<KimpactState>,
-    hooks: StaticSystemParam<H>,
-    settings: Res<KimpactSettings>,
-    timestep: Option<Res<TimestepMode>>,
-    time: Res<Time>,
-    mut contexts: Contexts,
-    new_marks: NewMarks,
-) where
-    H: BevyPhysicsHooks + 'static,
-    for<'w, 's> SystemParamItem<'w, 's, H>: BevyPhysicsHooks,
-{
-    let state = &mut *state;
-    // A step prepared but never finished (its context went away): restore
-    // the mode it overrode.
-    if let Some(PreparedStep {
-        restore: Some(mode),
-        ..
-    }) = state.step.take()
-    {
-        state.kimpact.set_mode(mode);
-    }
-    if settings.is_changed() || state.applied.is_none() {
-        apply_settings(state, &settings);
-    }
-    let Some(context) = governed(&contexts, state) else {
-        return;
-    };
-    let Ok((_, simulation, mut colliders, mut bodies, joints, config, to_render, _)) =
-        contexts.get_mut(context)
-    else {
-        return;
-    };
-    let simulation_tick = simulation.last_changed();
-    for (entity, marker, handle, link) in &new_marks {
-        if link.is_some_and(|l| l.0 != context) {
-            if !state.warned.other_context {
-                state.warned.other_context = true;
-                log::warn!(
-                    "kimpact: {entity} has a KimpactCollider in a rapier context kimpact does not govern; it is left to rapier"
-                );
-            }
-            state.unmark(entity);
-            continue;
-        }
-        state.mark(&colliders.colliders, entity, handle.0, marker.material);
-    }
-    let Some(timestep) = timestep else {
-        return;
-    };
-    if !config.physics_pipeline_active {
-        return;
-    }
-    let planned = planned_steps(
-        *timestep,
-        simulation.integration_parameters,
-        &time,
-        to_render.map_or(0.0, |t| t.diff),
-    );
-    if planned.count == 0 {
-        return;
-    }
-    // kimpact's stages bracket one pipeline step: a frame of several (or a
-    // collision-only one) runs rapier's own response.
-    let restore = if planned.count > 1 || config.simulation_mode != SimulationMode::Full {
-        if !state.warned.several_steps {
-            state.warned.several_steps = true;
-            log::warn!(
-                "kimpact: bevy_rapier runs {} step(s) in this frame ({:?}, {:?}); kimpact takes part in frames of one full step, so these run rapier's own response",
-                planned.count,
-                *timestep,
-                config.simulation_mode
-            );
-        }
-        let mode = state.kimpact.mode();
-        state.kimpact.set_mode(Mode::Native);
-        Some(mode)
-    } else {
-        None
-    };
-    // Read only: its change tick tells the after system whether
-    // bevy_rapier's step (which changes it) ran in between.
-    let simulation: &RapierContextSimulation = &simulation;
-    state.kimpact.before_step(
-        config.gravity,
-        &planned.parameters,
-        &simulation.islands,
-        &simulation.broad_phase,
-        &simulation.narrow_phase,
-        &mut bodies.bodies,
-        &mut colliders.colliders,
-        &joints.impulse_joints,
-        &joints.multibody_joints,
-        &UserHooks(&*hooks),
-    );
-    state.step = Some(PreparedStep {
-        context,
-        steps: planned.count,
-        restore,
-        simulation_tick,
-    });
-}
-
-fn apply_settings(state: &mut KimpactState, settings: &KimpactSettings) {
-    let applied = (settings.mode, settings.law);
-    if state.applied == Some(applied) {
-        return;
-    }
-    state.kimpact.set_mode(settings.mode);
-    match state.kimpact.set_law(settings.law) {
-        Ok(()) => state.applied = Some(applied),
-        Err(e) => {
+    fn finish(&self, app: &mut App) {
+        // bevy_rapier's own step system, added since (by a
+        // RapierPhysicsPlugin added after this one, or by hand): it steps
+        // the contexts on its own, kimpact must not step them again.
+        let theirs = [
+            IntoSystem::into_system(systems::step_simulation::<H>).system_type(),
+            IntoSystem::into_system(systems::step_simulation::<()>).system_type(),
+        ];
+        let found = app
+            .world()
+            .get_resource::<Schedules>()
+            .is_some_and(|schedules| {
+                schedules.iter().any(|(_, schedule)| {
+                    schedule
+                        .graph()
+                        .systems
+                        .iter()
+                        .any(|(_, system, _)| theirs.contains(&system.system_type()))
+                })
+            });
+        if found && let Some(mut state) = app.world_mut().get_resource_mut::<KimpactState>() {
             log::error!(
-                "kimpact: the law of KimpactSettings is invalid ({e}); the last valid law stays in force"
+                "kimpact: bevy_rapier's own step system runs beside KimpactPlugin (a RapierPhysicsPlugin added after it?); KimpactPlugin adds bevy_rapier's plugin itself: remove yours (configure bevy_rapier with KimpactPlugin::with_rapier). kimpact stands aside"
             );
-            state.applied = Some((settings.mode, state.kimpact.law().params()));
+            state.standing_aside = true;
         }
     }
-}
-
-/// After bevy_rapier's step: kimpact's last stage, and the messages.
-fn after_step<H>(
-    mut state: ResMut<KimpactState>,
-    hooks: StaticSystemParam<H>,
-    mut contexts: Contexts,
-    mut messages: MessageWriter<ImpactMessage>,
-) where
-    H: BevyPhysicsHooks + 'static,
-    for<'w, 's> SystemParamItem<'w, 's, H>: BevyPhysicsHooks,
-{
-    let state = &mut *state;
-    let Some(step) = state.step.take() else {
-        return;
-    };
-    let Ok((_, simulation, colliders, mut bodies, joints, ..)) = contexts.get_mut(step.context)
-    else {
-        if let Some(mode) = step.restore {
-            state.kimpact.set_mode(mode);
-        }
-        return;
-    };
-    let stepped = simulation.last_changed() != step.simulation_tick;
-    let ran = if stepped {
-        simulation.step_stats().num_steps
-    } else {
-        0
-    };
-    if ran != step.steps && !state.warned.step_mismatch {
-        state.warned.step_mismatch = true;
-        log::warn!(
-            "kimpact: bevy_rapier ran {ran} step(s) where kimpact expected {}; run KimpactPlugin in the schedule of RapierPhysicsPlugin, with RapierPhysicsPlugin::<KimpactHooks>",
-            step.steps
-        );
-    }
-    if let Err(e) = state.kimpact.after_step(
-        &simulation.narrow_phase,
-        &simulation.broad_phase,
-        &mut bodies.bodies,
-        &colliders.colliders,
-        &joints.impulse_joints,
-        &joints.multibody_joints,
-        &UserHooks(&*hooks),
-    ) {
-        log::debug!("kimpact: {e}");
-    }
-    if let Some(mode) = step.restore {
-        state.kimpact.set_mode(mode);
-        return;
-    }
-    let entity = |h| colliders.collider_entity(h);
-    let body = |h| {
-        colliders
-            .colliders
-            .get(h)
-            .and_then(|co| co.parent())
-            .and_then(|b| bodies.rigid_body_entity(b))
-    };
-    messages.write_batch(state.kimpact.events().iter().filter_map(|impact| {
-        Some(ImpactMessage {
-            collider1: entity(impact.collider1)?,
-            collider2: entity(impact.collider2)?,
-            body1: body(impact.collider1),
-            body2: body(impact.collider2),
-            impact: *impact,
-        })
-    }));
 }

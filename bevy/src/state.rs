@@ -1,6 +1,5 @@
 //! The resolver as a Bevy resource, and which collider entity it marked.
 
-use bevy::ecs::change_detection::Tick;
 use bevy::platform::collections::HashMap;
 use bevy::prelude::{Entity, Resource};
 
@@ -18,32 +17,19 @@ use crate::kimpact_rapier::{Kimpact, Law, LawParams, Material, Mode, Stats};
 pub struct KimpactState {
     pub(crate) kimpact: Kimpact,
     pub(crate) marks: Marks,
-    /// The step the before system prepared, until the after system finishes it.
-    pub(crate) step: Option<PreparedStep>,
     /// The settings in force (the last valid ones applied).
     pub(crate) applied: Option<(Mode, LawParams<crate::kimpact_rapier::math::Real>)>,
+    /// Another step system steps bevy_rapier (found when the app was
+    /// finished): kimpact marks nothing and steps nothing.
+    pub(crate) standing_aside: bool,
     pub(crate) warned: Warned,
-}
-
-/// One step between the before and the after system.
-#[derive(Copy, Clone, Debug)]
-pub(crate) struct PreparedStep {
-    /// The rapier context entity stepped.
-    pub context: Entity,
-    /// How many pipeline steps bevy_rapier is expected to run.
-    pub steps: usize,
-    /// The mode to restore after a frame run natively (several steps).
-    pub restore: Option<Mode>,
-    /// The context's change tick before the step (bevy_rapier's step
-    /// changes it).
-    pub simulation_tick: Tick,
 }
 
 /// Warnings given once per run.
 #[derive(Copy, Clone, Debug, Default)]
 pub(crate) struct Warned {
-    pub several_steps: bool,
-    pub step_mismatch: bool,
+    pub collision_only: bool,
+    pub no_timestep: bool,
     pub other_context: bool,
     pub several_contexts: bool,
 }
@@ -53,8 +39,8 @@ impl KimpactState {
         Self {
             kimpact,
             marks: Marks::default(),
-            step: None,
             applied: None,
+            standing_aside: false,
             warned: Warned::default(),
         }
     }
@@ -134,13 +120,10 @@ impl KimpactState {
     }
 }
 
-/// The marked colliders by entity, and by collider index (for the hook,
-/// which tells the governed context's pairs from another context's).
+/// The marked colliders by entity.
 #[derive(Default)]
 pub(crate) struct Marks {
     by_entity: HashMap<Entity, ColliderHandle>,
-    /// Per collider index: the marked handle there and its entity.
-    by_index: Vec<Option<(ColliderHandle, Entity)>>,
 }
 
 impl Marks {
@@ -150,35 +133,9 @@ impl Marks {
 
     fn insert(&mut self, entity: Entity, handle: ColliderHandle) {
         self.by_entity.insert(entity, handle);
-        let index = handle.into_raw_parts().0 as usize;
-        if self.by_index.len() <= index {
-            self.by_index.resize(index + 1, None);
-        }
-        self.by_index[index] = Some((handle, entity));
     }
 
     fn remove(&mut self, entity: Entity) -> Option<ColliderHandle> {
-        let handle = self.by_entity.remove(&entity)?;
-        let index = handle.into_raw_parts().0 as usize;
-        if let Some(slot) = self.by_index.get_mut(index)
-            && slot.is_some_and(|(h, _)| h == handle)
-        {
-            *slot = None;
-        }
-        Some(handle)
-    }
-
-    /// Whether `handle` in `colliders` is a collider marked here: the same
-    /// handle, and the collider's user data (bevy_rapier's entity bits)
-    /// naming the entity that was marked. A collider of another rapier
-    /// context with the same handle has another entity.
-    pub fn owns(&self, colliders: &ColliderSet, handle: ColliderHandle) -> bool {
-        let index = handle.into_raw_parts().0 as usize;
-        match self.by_index.get(index) {
-            Some(Some((h, entity))) if *h == handle => colliders
-                .get(handle)
-                .is_some_and(|co| co.user_data == u128::from(entity.to_bits())),
-            _ => false,
-        }
+        self.by_entity.remove(&entity)
     }
 }

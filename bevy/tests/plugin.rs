@@ -11,10 +11,11 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Duration;
 
 use bevy::ecs::message::Messages;
+use bevy::ecs::schedule::ScheduleLabel;
 use bevy::ecs::system::SystemParam;
 use bevy::prelude::*;
 use bevy::time::TimeUpdateStrategy;
-use bk::bevy_rapier::pipeline::ContactModificationContextView;
+use bk::bevy_rapier::pipeline::{ContactModificationContextView, PairFilterContextView};
 use bk::bevy_rapier::prelude::*;
 use bk::prelude::*;
 
@@ -51,300 +52,512 @@ const DIM: usize = 2;
 #[cfg(feature = "dim3")]
 const DIM: usize = 3;
 
-/// When bevy_rapier steps.
-#[derive(Copy, Clone, Debug)]
+/// When bevy_rapier steps (frames of 1/60 s).
+#[derive(Copy, Clone, Debug, PartialEq)]
 enum Timing {
-    /// `TimestepMode::Fixed` (dt = 1/60) in `PostUpdate`.
-    Fixed,
-    /// `TimestepMode::Variable` in `PostUpdate`, frames of 1/60 s.
-    Variable,
-    /// bevy_rapier and kimpact in `FixedUpdate` at 60 Hz.
-    FixedUpdate,
-    /// `TimestepMode::Fixed` with this many substeps.
-    Substeps(usize),
-    /// bevy_rapier in `FixedUpdate`, kimpact (wrongly) in `PostUpdate`.
-    Mismatched,
+    /// `TimestepMode::Fixed` (dt = 1/60, this many substeps) in `PostUpdate`.
+    Fixed(usize),
+    /// `TimestepMode::Variable` (max_dt = 1/60, this many substeps) in
+    /// `PostUpdate`.
+    Variable(usize),
+    /// `TimestepMode::Interpolated` in `PostUpdate`: rounds of dt =
+    /// 1/60 / `rounds` (so `rounds` of them a frame on average), of `substeps`
+    /// steps each; the bodies carry `TransformInterpolation`.
+    Interpolated { rounds: f32, substeps: usize },
+    /// bevy_rapier and kimpact in `FixedUpdate` at 60 Hz, `TimestepMode::Fixed`
+    /// with this many substeps.
+    FixedUpdate(usize),
 }
 
-/// A user's own hooks: count the calls for colliders they flagged.
+impl Timing {
+    fn timestep_mode(self) -> TimestepMode {
+        match self {
+            Timing::Fixed(substeps) | Timing::FixedUpdate(substeps) => {
+                TimestepMode::Fixed { dt: DT, substeps }
+            }
+            Timing::Variable(substeps) => TimestepMode::Variable {
+                max_dt: DT,
+                time_scale: 1.0,
+                substeps,
+            },
+            Timing::Interpolated { rounds, substeps } => TimestepMode::Interpolated {
+                dt: DT / rounds,
+                time_scale: 1.0,
+                substeps,
+            },
+        }
+    }
+}
+
+/// A user's hooks: count the `modify_solver_contacts` calls for colliders
+/// they flagged, and let ghosts (flagged `FILTER_CONTACT_PAIRS`) touch
+/// nothing.
 #[derive(Resource, Default, Clone)]
 struct UserCalls(Arc<AtomicUsize>);
 
+#[derive(Component)]
+struct Ghost;
+
 #[derive(SystemParam)]
-struct CountingHooks<'w> {
+struct UserHooks<'w, 's> {
     calls: Res<'w, UserCalls>,
+    ghosts: Query<'w, 's, (), With<Ghost>>,
 }
 
-impl BevyPhysicsHooks for CountingHooks<'_> {
+impl BevyPhysicsHooks for UserHooks<'_, '_> {
+    fn filter_contact_pair(&self, context: PairFilterContextView) -> Option<SolverFlags> {
+        let ghost = |e| self.ghosts.contains(e);
+        if ghost(context.collider1()) || ghost(context.collider2()) {
+            None
+        } else {
+            Some(SolverFlags::COMPUTE_RIGID_IMPULSES)
+        }
+    }
+
     fn modify_solver_contacts(&self, _context: ContactModificationContextView) {
         self.calls.0.fetch_add(1, Ordering::Relaxed);
     }
 }
 
-/// A headless app without gravity: `MinimalPlugins`, bevy_rapier, and
-/// kimpact in `settings` (none: the same app without kimpact).
-fn app(settings: Option<KimpactSettings>, timing: Timing) -> App {
-    app_with(settings, timing, false)
+/// How bevy_rapier is added beside (or instead of) kimpact.
+#[derive(Copy, Clone, Debug, PartialEq)]
+enum Rapier {
+    /// `KimpactPlugin` adds it (the drop-in).
+    ByKimpact,
+    /// No kimpact: `RapierPhysicsPlugin::<NoUserData>` alone.
+    Alone,
+    /// The user's `RapierPhysicsPlugin::<NoUserData>` added before
+    /// `KimpactPlugin` (a mistake kimpact tells and stands aside from).
+    AlsoBefore,
+    /// bevy_rapier's own step system added by hand beside kimpact's (the
+    /// same mistake, found when the app is finished).
+    OwnStepByHand,
 }
 
-fn app_with(settings: Option<KimpactSettings>, timing: Timing, user_hooks: bool) -> App {
-    let mut app = App::new();
-    app.add_plugins((MinimalPlugins, TransformPlugin));
-    let init = RapierContextInitialization::InitializeDefaultRapierContext {
-        integration_parameters: Default::default(),
-        rapier_configuration: RapierConfiguration {
-            gravity: Vect::ZERO,
-            ..RapierConfiguration::new(1.0)
-        },
-        broad_phase_optimization_strategy: Default::default(),
-    };
-    let fixed = matches!(timing, Timing::FixedUpdate | Timing::Mismatched);
-    match (settings.is_some(), user_hooks) {
-        (true, false) => {
-            let rapier =
-                RapierPhysicsPlugin::<KimpactHooks>::default().with_custom_initialization(init);
-            if matches!(timing, Timing::Mismatched) {
-                app.add_plugins((rapier.in_fixed_schedule(), KimpactPlugin::default()));
-            } else if fixed {
-                app.add_plugins((
-                    rapier.in_fixed_schedule(),
-                    KimpactPlugin::default().in_fixed_schedule(),
-                ));
-            } else {
-                app.add_plugins((rapier, KimpactPlugin::default()));
-            }
+/// A headless test app without gravity: `MinimalPlugins`, bevy_rapier and
+/// kimpact, in exact mode with `TimestepMode::Fixed` of 1/60 in
+/// `PostUpdate` unless a test says otherwise.
+#[derive(Clone)]
+struct Setup {
+    settings: KimpactSettings,
+    timing: Timing,
+    rapier: Rapier,
+    user_hooks: bool,
+}
+
+impl Setup {
+    fn new() -> Self {
+        Self {
+            settings: KimpactSettings::default(),
+            timing: Timing::Fixed(1),
+            rapier: Rapier::ByKimpact,
+            user_hooks: false,
         }
-        (true, true) => {
-            assert!(!fixed);
-            app.init_resource::<UserCalls>().add_plugins((
-                RapierPhysicsPlugin::<KimpactHooks<CountingHooks>>::default()
-                    .with_custom_initialization(init),
-                KimpactPlugin::default().with_hooks::<CountingHooks>(),
-            ));
-        }
-        (false, _) => {
-            let rapier =
-                RapierPhysicsPlugin::<NoUserData>::default().with_custom_initialization(init);
+    }
+
+    /// The same app without kimpact.
+    fn without_kimpact() -> Self {
+        Self::new().rapier(Rapier::Alone)
+    }
+
+    fn mode(mut self, mode: Mode) -> Self {
+        self.settings.mode = mode;
+        self
+    }
+
+    fn law(mut self, law: LawParams<f32>) -> Self {
+        self.settings.law = law;
+        self
+    }
+
+    fn timing(mut self, timing: Timing) -> Self {
+        self.timing = timing;
+        self
+    }
+
+    fn rapier(mut self, rapier: Rapier) -> Self {
+        self.rapier = rapier;
+        self
+    }
+
+    /// With the user's hooks ([`UserHooks`]).
+    fn user_hooks(mut self) -> Self {
+        self.user_hooks = true;
+        self
+    }
+
+    fn build(&self) -> Test {
+        let mut app = App::new();
+        app.add_plugins((MinimalPlugins, TransformPlugin))
+            .init_resource::<UserCalls>();
+        let init = RapierContextInitialization::InitializeDefaultRapierContext {
+            integration_parameters: Default::default(),
+            rapier_configuration: RapierConfiguration {
+                gravity: Vect::ZERO,
+                ..RapierConfiguration::new(1.0)
+            },
+            broad_phase_optimization_strategy: Default::default(),
+        };
+        let fixed = matches!(self.timing, Timing::FixedUpdate(_));
+        let kimpact = KimpactPlugin::default();
+        let kimpact = if fixed {
+            kimpact.in_fixed_schedule()
+        } else {
+            kimpact
+        };
+        let plain = || {
+            let rapier = RapierPhysicsPlugin::<NoUserData>::default()
+                .with_custom_initialization(init.clone());
             if fixed {
-                app.add_plugins(rapier.in_fixed_schedule());
+                rapier.in_fixed_schedule()
             } else {
-                app.add_plugins(rapier);
+                rapier
+            }
+        };
+        match (self.rapier, self.user_hooks) {
+            (Rapier::ByKimpact, false) => {
+                let init = init.clone();
+                app.add_plugins(
+                    kimpact.with_rapier(move |r| r.with_custom_initialization(init.clone())),
+                );
+            }
+            (Rapier::ByKimpact, true) => {
+                let init = init.clone();
+                app.add_plugins(
+                    kimpact
+                        .with_hooks::<UserHooks>()
+                        .with_rapier(move |r| r.with_custom_initialization(init.clone())),
+                );
+            }
+            (Rapier::Alone, _) => {
+                app.add_plugins(plain());
+            }
+            (Rapier::AlsoBefore, _) => {
+                app.add_plugins((plain(), kimpact));
+            }
+            (Rapier::OwnStepByHand, _) => {
+                let schedule = if fixed {
+                    FixedUpdate.intern()
+                } else {
+                    PostUpdate.intern()
+                };
+                let init = init.clone();
+                app.add_plugins(
+                    kimpact.with_rapier(move |r| r.with_custom_initialization(init.clone())),
+                )
+                .add_systems(
+                    schedule,
+                    RapierPhysicsPlugin::<NoUserData>::get_systems(PhysicsSet::StepSimulation),
+                );
             }
         }
-    }
-    if let Some(settings) = settings {
-        app.insert_resource(settings);
-    }
-    let frame = match timing {
-        Timing::FixedUpdate | Timing::Mismatched => {
-            app.insert_resource(Time::<Fixed>::from_hz(60.0));
-            Duration::from_secs_f64(1.0 / 60.0)
+        if self.rapier != Rapier::Alone {
+            app.insert_resource(self.settings.clone());
         }
-        _ => Duration::from_secs_f32(DT),
-    };
-    app.insert_resource(TimeUpdateStrategy::ManualDuration(frame));
-    app.insert_resource(match timing {
-        Timing::Fixed | Timing::FixedUpdate | Timing::Mismatched => TimestepMode::Fixed {
-            dt: DT,
-            substeps: 1,
-        },
-        Timing::Variable => TimestepMode::Variable {
-            max_dt: DT,
-            time_scale: 1.0,
-            substeps: 1,
-        },
-        Timing::Substeps(n) => TimestepMode::Fixed {
-            dt: DT,
-            substeps: n,
-        },
-    });
-    app.finish();
-    app
-}
-
-fn exact() -> Option<KimpactSettings> {
-    Some(KimpactSettings::default())
-}
-
-fn with_mode(mode: Mode) -> Option<KimpactSettings> {
-    Some(KimpactSettings {
-        mode,
-        ..Default::default()
-    })
-}
-
-/// A frictionless elastic (for rapier) ball that never sleeps, marked for
-/// kimpact if `marked`.
-fn ball(app: &mut App, p: Vect, v: Vect, r: f32, mass: f32, marked: bool) -> Entity {
-    let mut e = app.world_mut().spawn((
-        RigidBody::Dynamic,
-        Collider::ball(r),
-        ColliderMassProperties::Mass(mass),
-        Restitution::coefficient(1.0),
-        Friction::coefficient(0.0),
-        Velocity::linear(v),
-        Sleeping::disabled(),
-        at(p),
-    ));
-    if marked {
-        e.insert(KimpactCollider::default());
+        if fixed {
+            app.insert_resource(Time::<Fixed>::from_hz(60.0));
+        }
+        let frame = if fixed {
+            Duration::from_secs_f64(1.0 / 60.0)
+        } else {
+            Duration::from_secs_f32(DT)
+        };
+        app.insert_resource(TimeUpdateStrategy::ManualDuration(frame))
+            .insert_resource(self.timing.timestep_mode());
+        app.finish();
+        Test {
+            app,
+            timing: self.timing,
+        }
     }
-    e.id()
 }
 
-/// A fixed frictionless wall (unmarked: walls meet the law as fixed partners).
-fn wall(app: &mut App, center: Vect, half: Vect) -> Entity {
-    app.world_mut()
-        .spawn((
-            RigidBody::Fixed,
-            cuboid(half),
+/// A test app, with the bodies' helpers.
+struct Test {
+    app: App,
+    timing: Timing,
+}
+
+/// A frictionless elastic (for rapier) ball that never sleeps.
+#[derive(Copy, Clone, Debug)]
+struct Ball {
+    p: Vect,
+    v: Vect,
+    r: f32,
+    mass: f32,
+    marked: bool,
+}
+
+impl Ball {
+    /// A marked ball of radius 0.5 and mass 1 at `p`, moving at `v`.
+    fn at(p: Vect, v: Vect) -> Self {
+        Self {
+            p,
+            v,
+            r: 0.5,
+            mass: 1.0,
+            marked: true,
+        }
+    }
+
+    fn unmarked(self) -> Self {
+        Self {
+            marked: false,
+            ..self
+        }
+    }
+}
+
+impl Test {
+    fn spawn(&mut self, b: Ball) -> Entity {
+        let interpolated = matches!(self.timing, Timing::Interpolated { .. });
+        let mut e = self.app.world_mut().spawn((
+            RigidBody::Dynamic,
+            Collider::ball(b.r),
+            ColliderMassProperties::Mass(b.mass),
             Restitution::coefficient(1.0),
             Friction::coefficient(0.0),
-            at(center),
-        ))
-        .id()
-}
-
-/// A closed box of inner half-size `half` around the origin.
-fn closed_box(app: &mut App, half: f32) {
-    let t = 1.0;
-    for axis in 0..DIM {
-        for sign in [-1.0, 1.0] {
-            let mut center = Vect::ZERO;
-            center[axis] = sign * (half + t);
-            let mut h = Vect::splat(half + 2.0 * t);
-            h[axis] = t;
-            wall(app, center, h);
+            Velocity::linear(b.v),
+            Sleeping::disabled(),
+            ActiveEvents::COLLISION_EVENTS,
+            at(b.p),
+        ));
+        if b.marked {
+            e.insert(KimpactCollider::default());
         }
+        if interpolated {
+            e.insert(TransformInterpolation::default());
+        }
+        e.id()
     }
-}
 
-fn vel(app: &App, e: Entity) -> Vect {
-    app.world().get::<Velocity>(e).expect("a body").linear
-}
+    /// A marked ball of radius 0.5 and mass 1.
+    fn ball(&mut self, p: Vect, v: Vect) -> Entity {
+        self.spawn(Ball::at(p, v))
+    }
 
-fn pos(app: &App, e: Entity) -> Vect {
-    let t = app.world().get::<Transform>(e).expect("a body").translation;
-    #[cfg(feature = "dim2")]
-    return t.truncate();
-    #[cfg(feature = "dim3")]
-    return t;
-}
-
-fn kinetic(app: &App, balls: &[(Entity, f32)]) -> f64 {
-    balls
-        .iter()
-        .map(|&(e, m)| 0.5 * f64::from(m) * f64::from(vel(app, e).length_squared()))
-        .sum()
-}
-
-/// Run `frames` updates, collecting the impact messages.
-fn run(app: &mut App, frames: usize) -> Vec<ImpactMessage> {
-    let mut out = Vec::new();
-    for _ in 0..frames {
-        app.update();
-        if let Some(mut messages) = app
+    /// A fixed frictionless wall (unmarked: walls meet the law as fixed
+    /// partners).
+    fn wall(&mut self, center: Vect, half: Vect) -> Entity {
+        self.app
             .world_mut()
-            .get_resource_mut::<Messages<ImpactMessage>>()
-        {
-            out.extend(messages.drain());
+            .spawn((
+                RigidBody::Fixed,
+                cuboid(half),
+                Restitution::coefficient(1.0),
+                Friction::coefficient(0.0),
+                at(center),
+            ))
+            .id()
+    }
+
+    /// A closed box of inner half-size `half` around the origin.
+    fn closed_box(&mut self, half: f32) {
+        let t = 1.0;
+        for axis in 0..DIM {
+            for sign in [-1.0, 1.0] {
+                let mut center = Vect::ZERO;
+                center[axis] = sign * (half + t);
+                let mut h = Vect::splat(half + 2.0 * t);
+                h[axis] = t;
+                self.wall(center, h);
+            }
         }
     }
-    out
+
+    fn vel(&self, e: Entity) -> Vect {
+        self.app.world().get::<Velocity>(e).expect("a body").linear
+    }
+
+    fn pos(&self, e: Entity) -> Vect {
+        let t = self
+            .app
+            .world()
+            .get::<Transform>(e)
+            .expect("a body")
+            .translation;
+        #[cfg(feature = "dim2")]
+        return t.truncate();
+        #[cfg(feature = "dim3")]
+        return t;
+    }
+
+    fn kinetic(&self, balls: &[(Entity, f32)]) -> f64 {
+        balls
+            .iter()
+            .map(|&(e, m)| 0.5 * f64::from(m) * f64::from(self.vel(e).length_squared()))
+            .sum()
+    }
+
+    fn state(&self) -> &KimpactState {
+        self.app.world().resource::<KimpactState>()
+    }
+
+    fn user_calls(&self) -> usize {
+        self.app
+            .world()
+            .resource::<UserCalls>()
+            .0
+            .load(Ordering::Relaxed)
+    }
+
+    /// Run `frames` updates, collecting the impact messages.
+    fn run(&mut self, frames: usize) -> Vec<ImpactMessage> {
+        self.run_with_collisions(frames).0
+    }
+
+    /// Run `frames` updates, collecting the impact messages and bevy_rapier's
+    /// collision events.
+    fn run_with_collisions(&mut self, frames: usize) -> (Vec<ImpactMessage>, Vec<CollisionEvent>) {
+        let mut impacts = Vec::new();
+        let mut collisions = Vec::new();
+        for _ in 0..frames {
+            self.app.update();
+            let world = self.app.world_mut();
+            if let Some(mut messages) = world.get_resource_mut::<Messages<ImpactMessage>>() {
+                impacts.extend(messages.drain());
+            }
+            if let Some(mut messages) = world.get_resource_mut::<Messages<CollisionEvent>>() {
+                collisions.extend(messages.drain());
+            }
+        }
+        (impacts, collisions)
+    }
 }
 
 /// Newton's cradle: five touching balls and one incoming at 1 m/s, elastic.
-/// The balls, the energy before and after, the messages.
-fn cradle(timing: Timing) -> (App, Vec<Entity>, f64, f64, Vec<ImpactMessage>) {
-    let mut app = app(exact(), timing);
+struct Cradle {
+    test: Test,
+    balls: Vec<Entity>,
+    e0: f64,
+    e1: f64,
+    messages: Vec<ImpactMessage>,
+}
+
+const CRADLE_FRAMES: usize = 40;
+
+fn cradle(setup: Setup) -> Cradle {
+    let mut test = setup.build();
     let r = 0.5;
-    let mut balls = vec![ball(
-        &mut app,
-        vect(-(2.0 * r + 3.5 * DT), 0.0, 0.0),
-        vect(1.0, 0.0, 0.0),
-        r,
-        1.0,
-        true,
-    )];
+    let mut balls = vec![test.ball(vect(-(2.0 * r + 3.5 * DT), 0.0, 0.0), vect(1.0, 0.0, 0.0))];
     for i in 0..5 {
-        balls.push(ball(
-            &mut app,
-            vect(2.0 * r * i as f32, 0.0, 0.0),
-            Vect::ZERO,
-            r,
-            1.0,
-            true,
-        ));
+        balls.push(test.ball(vect(2.0 * r * i as f32, 0.0, 0.0), Vect::ZERO));
     }
     let masses: Vec<_> = balls.iter().map(|&e| (e, 1.0)).collect();
-    app.update();
-    let e0 = kinetic(&app, &masses);
-    let messages = run(&mut app, 40);
-    let e1 = kinetic(&app, &masses);
-    (app, balls, e0, e1, messages)
+    test.app.update();
+    let e0 = test.kinetic(&masses);
+    let messages = test.run(CRADLE_FRAMES);
+    let e1 = test.kinetic(&masses);
+    Cradle {
+        test,
+        balls,
+        e0,
+        e1,
+        messages,
+    }
+}
+
+/// The cradle's law result: (0, 0, 0, 0, 0, 1) to 1e-5, its energy kept
+/// to 1e-5, one impact message per touching pair, in order down the row.
+fn assert_law_cradle(c: &Cradle, timing: Timing) {
+    for (i, &b) in c.balls.iter().enumerate() {
+        let expect = if i == 5 { 1.0 } else { 0.0 };
+        let v = c.test.vel(b);
+        assert!(
+            (v - vect(expect, 0.0, 0.0)).length() < 1e-5,
+            "{timing:?}: ball {i} has {v:?}"
+        );
+    }
+    assert!(
+        ((c.e1 - c.e0) / c.e0).abs() < 1e-5,
+        "{timing:?}: energy {} -> {}",
+        c.e0,
+        c.e1
+    );
+    let pairs: Vec<_> = c
+        .messages
+        .iter()
+        .map(|m| {
+            let i = c.balls.iter().position(|&b| b == m.collider1).unwrap();
+            let j = c.balls.iter().position(|&b| b == m.collider2).unwrap();
+            (i.min(j), i.max(j))
+        })
+        .collect();
+    assert_eq!(
+        pairs,
+        [(0, 1), (1, 2), (2, 3), (3, 4), (4, 5)],
+        "{timing:?}"
+    );
+    assert_eq!(c.test.state().stats().impacts, 5, "{timing:?}");
 }
 
 #[test]
 fn exact_newtons_cradle_passes_the_velocity_down_the_row() {
-    for timing in [Timing::Fixed, Timing::Variable, Timing::FixedUpdate] {
-        let (app, balls, e0, e1, messages) = cradle(timing);
-        for (i, &b) in balls.iter().enumerate() {
-            let expect = if i == 5 { 1.0 } else { 0.0 };
-            let v = vel(&app, b);
-            assert!(
-                (v - vect(expect, 0.0, 0.0)).length() < 1e-5,
-                "{timing:?}: ball {i} has {v:?}"
-            );
-        }
-        assert!(
-            ((e1 - e0) / e0).abs() < 1e-5,
-            "{timing:?}: energy {e0} -> {e1}"
-        );
-        // One impact per touching pair, in order down the row.
-        let pairs: Vec<_> = messages
-            .iter()
-            .map(|m| {
-                let i = balls.iter().position(|&b| b == m.collider1).unwrap();
-                let j = balls.iter().position(|&b| b == m.collider2).unwrap();
-                (i.min(j), i.max(j))
-            })
-            .collect();
-        assert_eq!(
-            pairs,
-            [(0, 1), (1, 2), (2, 3), (3, 4), (4, 5)],
-            "{timing:?}"
-        );
-        let stats = app.world().resource::<KimpactState>().stats();
-        assert_eq!(stats.impacts, 5, "{timing:?}");
+    for timing in [
+        Timing::Fixed(1),
+        Timing::Variable(1),
+        Timing::FixedUpdate(1),
+        Timing::Interpolated {
+            rounds: 1.0,
+            substeps: 1,
+        },
+    ] {
+        let c = cradle(Setup::new().timing(timing));
+        assert_law_cradle(&c, timing);
     }
 }
 
 #[test]
-fn several_steps_per_frame_run_rapier_natively_without_losing_the_mode() {
-    let (app, balls, _, _, messages) = cradle(Timing::Substeps(2));
-    assert!(messages.is_empty(), "kimpact took part: {messages:?}");
-    let state = app.world().resource::<KimpactState>();
-    assert_eq!(state.mode(), Mode::Exact);
-    assert_eq!(state.stats().impacts, 0);
-    // rapier's own cradle does not pass the velocity down the row.
-    assert!(vel(&app, balls[5]).x < 0.9, "{:?}", vel(&app, balls[5]));
-}
-
-#[test]
-fn kimpact_outside_bevy_rapiers_schedule_leaves_rapier_alone() {
-    // The stages run with no step between them: kimpact warns and stands
-    // aside (its hook passes every pair to rapier), nothing breaks.
-    let (app, balls, e0, e1, messages) = cradle(Timing::Mismatched);
-    assert!(messages.is_empty(), "{messages:?}");
-    assert!(vel(&app, balls[5]).x < 0.9, "{:?}", vel(&app, balls[5]));
-    assert!(e1 <= e0 * (1.0 + 1e-6), "energy {e0} -> {e1}");
+fn every_step_of_a_frame_of_several_follows_the_law() {
+    // Substeps, and rounds of `Interpolated` (two or three a frame).
+    let timings = [
+        Timing::Fixed(3),
+        Timing::Variable(3),
+        Timing::FixedUpdate(2),
+        Timing::Interpolated {
+            rounds: 2.5,
+            substeps: 1,
+        },
+        Timing::Interpolated {
+            rounds: 3.0,
+            substeps: 2,
+        },
+    ];
+    for timing in timings {
+        let c = cradle(Setup::new().timing(timing));
+        assert_law_cradle(&c, timing);
+        // kimpact's stages ran around every pipeline step: the frames of the
+        // run (the first update and the cradle's) at the steps per frame.
+        let steps = c.test.state().stats().steps;
+        let frames = CRADLE_FRAMES as u64 + 1;
+        let expect = match timing {
+            Timing::Fixed(n) => frames * n as u64,
+            // Variable's first frame has no time (no step).
+            Timing::Variable(n) => (frames - 1) * n as u64,
+            // One fixed tick a frame but the first.
+            Timing::FixedUpdate(n) => (frames - 1) * n as u64,
+            Timing::Interpolated { rounds, substeps } => {
+                ((frames - 1) as f32 * rounds).round() as u64 * substeps as u64
+            }
+        };
+        // Interpolated's rounds follow the render by float sums: one round
+        // more or less.
+        let slack = match timing {
+            Timing::Interpolated { substeps, .. } => substeps as u64,
+            _ => 0,
+        };
+        assert!(
+            steps.abs_diff(expect) <= slack,
+            "{timing:?}: {steps} steps through kimpact, {expect} expected"
+        );
+    }
 }
 
 /// A gas of `n` balls (restitution 1, no friction) in a closed box; the
 /// balls and their masses.
-fn gas(app: &mut App, n: usize) -> Vec<(Entity, f32)> {
+fn gas(test: &mut Test, n: usize) -> Vec<(Entity, f32)> {
     let half = 5.0;
-    closed_box(app, half);
+    test.closed_box(half);
     let per_row = if DIM == 2 { 10 } else { 5 };
     let spacing = if DIM == 2 { 0.9 } else { 1.5 };
     let mut balls = Vec::new();
@@ -365,43 +578,85 @@ fn gas(app: &mut App, n: usize) -> Vec<(Entity, f32)> {
             ((i * 5 % 13) as f32 - 6.0) * 0.5,
             ((i * 3 % 7) as f32 - 3.0) * 0.6,
         );
-        let m = 1.0 + (i % 3) as f32;
-        balls.push((ball(app, p, v, 0.3, m, true), m));
+        let mass = 1.0 + (i % 3) as f32;
+        let ball = Ball {
+            r: 0.3,
+            mass,
+            ..Ball::at(p, v)
+        };
+        balls.push((test.spawn(ball), mass));
     }
     balls
 }
 
-#[test]
-fn an_elastic_gas_keeps_its_energy_in_exact_mode() {
-    let mut app = app(exact(), Timing::Fixed);
-    let balls = gas(&mut app, 100);
-    app.update();
-    let e0 = kinetic(&app, &balls);
-    let messages = run(&mut app, 600);
-    let e1 = kinetic(&app, &balls);
-    let impacts = app.world().resource::<KimpactState>().stats().impacts;
+/// The gas in exact mode for `frames`: its energy kept to 1e-5, one message
+/// per impact, no ball out of the box.
+fn assert_gas_keeps_its_energy(timing: Timing, frames: usize) {
+    let mut test = Setup::new().timing(timing).build();
+    let balls = gas(&mut test, 100);
+    test.app.update();
+    let e0 = test.kinetic(&balls);
+    let messages = test.run(frames);
+    let e1 = test.kinetic(&balls);
+    let stats = test.state().stats();
     eprintln!(
-        "gas {DIM}D: {impacts} impacts, energy {e0} -> {e1} ({:.2e})",
+        "gas {DIM}D {timing:?}: {} steps, {} impacts, energy {e0} -> {e1} ({:.2e})",
+        stats.steps,
+        stats.impacts,
         (e1 - e0) / e0
     );
-    assert!(impacts > 500, "only {impacts} impacts");
-    assert_eq!(messages.len() as u64, impacts, "one message per impact");
-    assert!(((e1 - e0) / e0).abs() < 1e-5, "energy {e0} -> {e1}");
+    assert!(
+        stats.impacts > 500,
+        "{timing:?}: only {} impacts",
+        stats.impacts
+    );
+    assert_eq!(
+        messages.len() as u64,
+        stats.impacts,
+        "one message per impact"
+    );
+    assert!(
+        ((e1 - e0) / e0).abs() < 1e-5,
+        "{timing:?}: energy {e0} -> {e1}"
+    );
     for &(b, _) in &balls {
-        let p = pos(&app, b);
+        let p = test.pos(b);
         assert!(p.abs().max_element() < 5.0, "{b} escaped to {p:?}");
     }
 }
 
-/// Bits of every ball's position, rotation and velocity after `frames`.
-fn gas_bits(settings: Option<KimpactSettings>, frames: usize) -> Vec<u32> {
-    let mut app = app(settings, Timing::Fixed);
-    let balls = gas(&mut app, 100);
-    run(&mut app, frames);
-    let mut bits = Vec::new();
+#[test]
+fn an_elastic_gas_keeps_its_energy_in_exact_mode() {
+    assert_gas_keeps_its_energy(Timing::Fixed(1), 600);
+}
+
+#[test]
+fn an_elastic_gas_keeps_its_energy_over_substeps() {
+    // The same 10 s, in steps of half the frame.
+    assert_gas_keeps_its_energy(Timing::Fixed(2), 600);
+    assert_gas_keeps_its_energy(Timing::Variable(2), 600);
+}
+
+/// Bits of every ball's position, rotation and velocity after `frames` (and
+/// of the context's dt and time behind the render), and bevy_rapier's
+/// collision events.
+fn gas_bits(setup: Setup, frames: usize) -> (Vec<u32>, Vec<CollisionEvent>) {
+    let mut test = setup.build();
+    let balls = gas(&mut test, 100);
+    let (_, collisions) = test.run_with_collisions(frames);
+    let world = test.app.world_mut();
+    let (simulation, to_render) = world
+        .query::<(&RapierContextSimulation, &SimulationToRenderTime)>()
+        .single(world)
+        .expect("one context");
+    let mut bits = vec![
+        simulation.integration_parameters.dt.to_bits(),
+        to_render.diff.to_bits(),
+    ];
     for &(b, _) in &balls {
-        let t = app.world().get::<Transform>(b).unwrap();
-        let v = app.world().get::<Velocity>(b).unwrap();
+        let world = test.app.world();
+        let t = world.get::<Transform>(b).unwrap();
+        let v = world.get::<Velocity>(b).unwrap();
         bits.extend(t.translation.to_array().map(f32::to_bits));
         bits.extend(t.rotation.to_array().map(f32::to_bits));
         bits.extend(v.linear.to_array().map(f32::to_bits));
@@ -410,41 +665,77 @@ fn gas_bits(settings: Option<KimpactSettings>, frames: usize) -> Vec<u32> {
         #[cfg(feature = "dim3")]
         bits.extend(v.angular.to_array().map(f32::to_bits));
     }
-    bits
+    (bits, collisions)
 }
 
 #[test]
 fn native_mode_leaves_bevy_rapier_unchanged_bit_for_bit() {
-    let without = gas_bits(None, 200);
-    assert_eq!(gas_bits(with_mode(Mode::Native), 200), without);
-    // The comparison can tell: kimpact's law changes this scene.
-    assert_ne!(gas_bits(exact(), 200), without);
+    // kimpact's step system runs bevy_rapier's steps one by one: the same
+    // bodies (interpolated ones too) and collision events as bevy_rapier's
+    // own step system, in every timestep mode. The reference is the same
+    // app with bevy_rapier's own step (kimpact standing aside): bevy_rapier's
+    // results change by rounding with the app's archetypes (one more
+    // resource is enough), so the two apps have the same plugins.
+    let timings = [
+        Timing::Fixed(1),
+        Timing::Fixed(3),
+        Timing::Variable(2),
+        Timing::Interpolated {
+            rounds: 2.5,
+            substeps: 2,
+        },
+        Timing::FixedUpdate(2),
+    ];
+    for timing in timings {
+        let rapiers = gas_bits(Setup::new().rapier(Rapier::AlsoBefore).timing(timing), 200);
+        assert!(!rapiers.1.is_empty(), "{timing:?}: no collision event");
+        let native = gas_bits(Setup::new().mode(Mode::Native).timing(timing), 200);
+        assert!(native.0 == rapiers.0, "{timing:?}: the bodies differ");
+        assert_eq!(
+            native.1, rapiers.1,
+            "{timing:?}: the collision events differ"
+        );
+        // The comparison can tell: kimpact's law changes this scene.
+        if timing == Timing::Fixed(1) {
+            assert_ne!(gas_bits(Setup::new().timing(timing), 200).0, rapiers.0);
+        }
+    }
+}
+
+#[test]
+fn a_rapier_plugin_beside_kimpacts_makes_kimpact_stand_aside() {
+    // A user's RapierPhysicsPlugin added before KimpactPlugin (which adds
+    // its own), or bevy_rapier's step system added by hand: kimpact logs an
+    // error and steps nothing, bevy_rapier runs as without it (not twice:
+    // the same bodies to rounding, see the native test).
+    let without = cradle(Setup::without_kimpact());
+    for rapier in [Rapier::AlsoBefore, Rapier::OwnStepByHand] {
+        let c = cradle(Setup::new().rapier(rapier));
+        assert!(c.messages.is_empty(), "{rapier:?}: {:?}", c.messages);
+        let state = c.test.state();
+        assert_eq!(state.stats().steps, 0, "{rapier:?}");
+        assert!(!state.is_marked(c.balls[0]), "{rapier:?}");
+        for (&b, &w) in c.balls.iter().zip(&without.balls) {
+            let (p, pw) = (c.test.pos(b), without.test.pos(w));
+            let (v, vw) = (c.test.vel(b), without.test.vel(w));
+            assert!((p - pw).length() < 1e-5, "{rapier:?}: {p:?} vs {pw:?}");
+            assert!((v - vw).length() < 1e-5, "{rapier:?}: {v:?} vs {vw:?}");
+        }
+        // rapier's own cradle does not pass the velocity down the row.
+        assert!(c.test.vel(c.balls[5]).x < 0.9, "{rapier:?}");
+    }
 }
 
 #[test]
 fn impact_messages_name_the_colliders_and_bodies() {
-    let mut app = app(exact(), Timing::Fixed);
-    let a = ball(
-        &mut app,
-        vect(0.0, 0.0, 0.0),
-        vect(2.0, 0.0, 0.0),
-        0.5,
-        1.0,
-        true,
-    );
-    let b = ball(&mut app, vect(1.5, 0.0, 0.0), Vect::ZERO, 0.5, 1.0, true);
-    let w = wall(&mut app, vect(3.5, 0.0, 0.0), vect(0.5, 2.0, 2.0));
+    let mut test = Setup::new().build();
+    let a = test.ball(vect(0.0, 0.0, 0.0), vect(2.0, 0.0, 0.0));
+    let b = test.ball(vect(1.5, 0.0, 0.0), Vect::ZERO);
+    let w = test.wall(vect(3.5, 0.0, 0.0), vect(0.5, 2.0, 2.0));
     // An unmarked pair meets too: rapier's, no message.
-    let c = ball(
-        &mut app,
-        vect(0.0, 5.0, 0.0),
-        vect(2.0, 0.0, 0.0),
-        0.5,
-        1.0,
-        false,
-    );
-    let d = ball(&mut app, vect(1.5, 5.0, 0.0), Vect::ZERO, 0.5, 1.0, false);
-    let messages = run(&mut app, 120);
+    let c = test.spawn(Ball::at(vect(0.0, 5.0, 0.0), vect(2.0, 0.0, 0.0)).unmarked());
+    let d = test.spawn(Ball::at(vect(1.5, 5.0, 0.0), Vect::ZERO).unmarked());
+    let messages = test.run(120);
     let named: Vec<_> = messages
         .iter()
         .map(|m| {
@@ -471,27 +762,27 @@ fn impact_messages_name_the_colliders_and_bodies() {
         "{first:?}"
     );
     // The unmarked pair did collide (rapier's response).
-    assert!(vel(&app, d).x > 1.0, "{:?}", vel(&app, d));
+    assert!(test.vel(d).x > 1.0, "{:?}", test.vel(d));
 }
 
 #[test]
 fn despawning_marked_balls_mid_run_keeps_the_others_impacts() {
-    let mut app = app(exact(), Timing::Fixed);
-    let balls = gas(&mut app, 100);
-    run(&mut app, 100);
+    let mut test = Setup::new().build();
+    let balls = gas(&mut test, 100);
+    test.run(100);
     let gone: Vec<_> = balls.iter().step_by(10).map(|&(e, _)| e).collect();
     for &e in &gone {
-        app.world_mut().despawn(e);
+        test.app.world_mut().despawn(e);
     }
     let rest: Vec<_> = balls
         .iter()
         .copied()
         .filter(|(e, _)| !gone.contains(e))
         .collect();
-    let e0 = kinetic(&app, &rest);
-    let messages = run(&mut app, 300);
-    let e1 = kinetic(&app, &rest);
-    let state = app.world().resource::<KimpactState>();
+    let e0 = test.kinetic(&rest);
+    let messages = test.run(300);
+    let e1 = test.kinetic(&rest);
+    let state = test.state();
     assert_eq!(state.marked_count(), 90);
     assert!(gone.iter().all(|&e| !state.is_marked(e)));
     assert!(messages.len() > 100, "only {} impacts", messages.len());
@@ -508,37 +799,25 @@ fn despawning_marked_balls_mid_run_keeps_the_others_impacts() {
 fn removing_the_component_hands_the_collider_back_to_rapier() {
     // A lossy law (rapier's restitution is 1): kimpact's impacts are told
     // apart by the speed they leave.
-    let lossy = KimpactSettings {
-        law: LawParams {
-            dissipation: 0.2,
-            ..Default::default()
-        },
+    let lossy = LawParams {
+        dissipation: 0.2,
         ..Default::default()
     };
     let speed_after = |unmark: bool| {
-        let mut app = app(Some(lossy.clone()), Timing::Fixed);
-        let a = ball(
-            &mut app,
-            vect(0.0, 0.0, 0.0),
-            vect(1.0, 0.0, 0.0),
-            0.5,
-            1.0,
-            true,
-        );
-        let b = ball(&mut app, vect(1.3, 0.0, 0.0), Vect::ZERO, 0.5, 1.0, true);
-        run(&mut app, 3);
-        assert!(app.world().resource::<KimpactState>().is_marked(b));
+        let mut test = Setup::new().law(lossy).build();
+        let a = test.ball(vect(0.0, 0.0, 0.0), vect(1.0, 0.0, 0.0));
+        let b = test.ball(vect(1.3, 0.0, 0.0), Vect::ZERO);
+        test.run(3);
+        assert!(test.state().is_marked(b));
         if unmark {
-            app.world_mut().entity_mut(b).remove::<KimpactCollider>();
+            test.app
+                .world_mut()
+                .entity_mut(b)
+                .remove::<KimpactCollider>();
         }
-        let messages = run(&mut app, 30);
-        let state = app.world().resource::<KimpactState>();
-        assert_eq!(state.is_marked(b), !unmark);
-        (
-            messages.len(),
-            vel(&app, a).x + vel(&app, b).x,
-            vel(&app, b).x,
-        )
+        let messages = test.run(30);
+        assert_eq!(test.state().is_marked(b), !unmark);
+        (messages.len(), test.vel(a).x + test.vel(b).x, test.vel(b).x)
     };
     let (n_law, momentum_law, b_law) = speed_after(false);
     let (n_rapier, momentum_rapier, b_rapier) = speed_after(true);
@@ -553,94 +832,123 @@ fn removing_the_component_hands_the_collider_back_to_rapier() {
 
 #[test]
 fn settings_change_at_run_time_and_an_invalid_law_is_refused() {
-    let mut app = app(exact(), Timing::Fixed);
-    let a = ball(
-        &mut app,
-        vect(0.0, 0.0, 0.0),
-        vect(1.0, 0.0, 0.0),
-        0.5,
-        1.0,
-        true,
-    );
-    let b = ball(&mut app, vect(1.3, 0.0, 0.0), Vect::ZERO, 0.5, 1.0, true);
+    let mut test = Setup::new().build();
+    let a = test.ball(vect(0.0, 0.0, 0.0), vect(1.0, 0.0, 0.0));
+    let b = test.ball(vect(1.3, 0.0, 0.0), Vect::ZERO);
     // A second pair, meeting after the switch to native mode.
-    ball(
-        &mut app,
-        vect(0.0, 4.0, 0.0),
-        vect(1.0, 0.0, 0.0),
-        0.5,
-        1.0,
-        true,
-    );
-    let d = ball(&mut app, vect(3.0, 4.0, 0.0), Vect::ZERO, 0.5, 1.0, true);
-    run(&mut app, 2);
-    app.world_mut()
+    test.ball(vect(0.0, 4.0, 0.0), vect(1.0, 0.0, 0.0));
+    let d = test.ball(vect(3.0, 4.0, 0.0), Vect::ZERO);
+    test.run(2);
+    test.app
+        .world_mut()
         .resource_mut::<KimpactSettings>()
         .law
         .dissipation = -1.0;
-    let messages = run(&mut app, 30);
-    let state = app.world().resource::<KimpactState>();
-    assert_eq!(state.law().dissipation(), 0.0, "the valid law stays");
+    let messages = test.run(30);
+    assert_eq!(test.state().law().dissipation(), 0.0, "the valid law stays");
     assert_eq!(messages.len(), 1, "a and b meet under the elastic law");
-    assert!((vel(&app, b).x - 1.0).abs() < 1e-5 && vel(&app, a).x.abs() < 1e-5);
-    app.world_mut().resource_mut::<KimpactSettings>().mode = Mode::Native;
-    let messages = run(&mut app, 150);
-    assert_eq!(app.world().resource::<KimpactState>().mode(), Mode::Native);
+    assert!((test.vel(b).x - 1.0).abs() < 1e-5 && test.vel(a).x.abs() < 1e-5);
+    test.app.world_mut().resource_mut::<KimpactSettings>().mode = Mode::Native;
+    let messages = test.run(150);
+    assert_eq!(test.state().mode(), Mode::Native);
     assert!(messages.is_empty(), "native mode sends none: {messages:?}");
     assert!(
-        vel(&app, d).x > 0.5,
+        test.vel(d).x > 0.5,
         "the second pair met (rapier's): {:?}",
-        vel(&app, d)
+        test.vel(d)
     );
 }
 
 #[test]
 fn the_users_hooks_are_chained() {
-    let mut app = app_with(exact(), Timing::Fixed, true);
+    let mut test = Setup::new().user_hooks().build();
     // The user's flag on an unmarked ball hitting a wall, and on a marked
     // one: the user's hook runs for both, and the law still takes the
     // marked pair.
-    let u = ball(
-        &mut app,
-        vect(0.0, 4.0, 0.0),
-        vect(2.0, 0.0, 0.0),
-        0.5,
-        1.0,
-        false,
-    );
-    app.world_mut()
+    let u = test.spawn(Ball::at(vect(0.0, 4.0, 0.0), vect(2.0, 0.0, 0.0)).unmarked());
+    test.app
+        .world_mut()
         .entity_mut(u)
         .insert(ActiveHooks::MODIFY_SOLVER_CONTACTS);
-    wall(&mut app, vect(2.5, 4.0, 0.0), vect(0.5, 1.0, 1.0));
-    let a = ball(
-        &mut app,
-        vect(0.0, 0.0, 0.0),
-        vect(1.0, 0.0, 0.0),
-        0.5,
-        1.0,
-        true,
-    );
-    app.world_mut()
+    test.wall(vect(2.5, 4.0, 0.0), vect(0.5, 1.0, 1.0));
+    let a = test.ball(vect(0.0, 0.0, 0.0), vect(1.0, 0.0, 0.0));
+    test.app
+        .world_mut()
         .entity_mut(a)
         .insert(ActiveHooks::MODIFY_SOLVER_CONTACTS);
-    let b = ball(&mut app, vect(1.3, 0.0, 0.0), Vect::ZERO, 0.5, 1.0, true);
-    let messages = run(&mut app, 80);
-    let calls = app
-        .world()
-        .resource::<UserCalls>()
-        .0
-        .load(Ordering::Relaxed);
-    assert!(calls > 0, "the user's hook never ran");
+    let b = test.ball(vect(1.3, 0.0, 0.0), Vect::ZERO);
+    let messages = test.run(80);
+    assert!(test.user_calls() > 0, "the user's hook never ran");
     assert_eq!(messages.len(), 1, "{messages:?}");
-    assert!((vel(&app, b).x - 1.0).abs() < 1e-5 && vel(&app, a).x.abs() < 1e-5);
-    assert!(vel(&app, u).x < 0.0, "u bounced off the wall");
+    assert!((test.vel(b).x - 1.0).abs() < 1e-5 && test.vel(a).x.abs() < 1e-5);
+    assert!(test.vel(u).x < 0.0, "u bounced off the wall");
+}
+
+#[test]
+fn the_users_contact_filter_decides_marked_and_unmarked_pairs() {
+    // Ghosts (the user's filter_contact_pair) pass through a marked ball
+    // and an unmarked one; the same pairs without the ghost meet (by the law
+    // and by rapier), in every timestep mode.
+    for timing in [
+        Timing::Fixed(1),
+        Timing::Variable(2),
+        Timing::Interpolated {
+            rounds: 2.0,
+            substeps: 1,
+        },
+    ] {
+        let mut test = Setup::new().user_hooks().timing(timing).build();
+        let mut pairs = Vec::new();
+        for (row, (marked, ghost)) in [(true, true), (false, true), (true, false), (false, false)]
+            .into_iter()
+            .enumerate()
+        {
+            let y = 3.0 * row as f32;
+            let mut first = Ball::at(vect(0.0, y, 0.0), vect(1.0, 0.0, 0.0));
+            let mut second = Ball::at(vect(1.3, y, 0.0), Vect::ZERO);
+            if !marked {
+                (first, second) = (first.unmarked(), second.unmarked());
+            }
+            let (a, b) = (test.spawn(first), test.spawn(second));
+            if ghost {
+                test.app
+                    .world_mut()
+                    .entity_mut(a)
+                    .insert((Ghost, ActiveHooks::FILTER_CONTACT_PAIRS));
+            }
+            pairs.push((a, b));
+        }
+        let messages = test.run(180);
+        let [marked_ghost, ghost, marked, rapier] = pairs[..] else {
+            unreachable!()
+        };
+        for (a, b) in [marked_ghost, ghost] {
+            assert_eq!(test.vel(a).x, 1.0, "{timing:?}: the ghost was touched");
+            assert_eq!(test.vel(b).x, 0.0, "{timing:?}: the ghost touched");
+            assert!(test.pos(a).x > test.pos(b).x + 1.0, "{timing:?}: no pass");
+        }
+        for (a, b) in [marked, rapier] {
+            assert!(test.vel(a).x.abs() < 1e-3, "{timing:?}: {:?}", test.vel(a));
+            assert!((test.vel(b).x - 1.0).abs() < 1e-3, "{timing:?}");
+        }
+        // One impact, the marked pair's without a ghost.
+        let named: Vec<_> = messages
+            .iter()
+            .map(|m| (m.collider1, m.collider2))
+            .collect();
+        assert!(
+            named == [marked] || named == [(marked.1, marked.0)],
+            "{timing:?}: {named:?}"
+        );
+    }
 }
 
 #[test]
 fn another_rapier_context_keeps_rapiers_response_and_the_users_hooks() {
-    let mut app = app_with(exact(), Timing::Fixed, true);
-    app.update();
-    let other = app
+    let mut test = Setup::new().user_hooks().build();
+    test.app.update();
+    let other = test
+        .app
         .world_mut()
         .spawn((
             RapierContextSimulation::default(),
@@ -651,82 +959,57 @@ fn another_rapier_context_keeps_rapiers_response_and_the_users_hooks() {
         ))
         .id();
     // The same pair in both contexts: their collider handles coincide.
-    let a = ball(
-        &mut app,
-        vect(0.0, 0.0, 0.0),
-        vect(1.0, 0.0, 0.0),
-        0.5,
-        1.0,
-        true,
-    );
-    let b = ball(&mut app, vect(1.3, 0.0, 0.0), Vect::ZERO, 0.5, 1.0, true);
-    let c = ball(
-        &mut app,
-        vect(0.0, 0.0, 0.0),
-        vect(1.0, 0.0, 0.0),
-        0.5,
-        1.0,
-        true,
-    );
-    let d = ball(&mut app, vect(1.3, 0.0, 0.0), Vect::ZERO, 0.5, 1.0, true);
+    let a = test.ball(vect(0.0, 0.0, 0.0), vect(1.0, 0.0, 0.0));
+    let b = test.ball(vect(1.3, 0.0, 0.0), Vect::ZERO);
+    let c = test.ball(vect(0.0, 0.0, 0.0), vect(1.0, 0.0, 0.0));
+    let d = test.ball(vect(1.3, 0.0, 0.0), Vect::ZERO);
     for e in [c, d] {
-        app.world_mut().entity_mut(e).insert((
+        test.app.world_mut().entity_mut(e).insert((
             RapierContextEntityLink(other),
             ActiveHooks::MODIFY_SOLVER_CONTACTS,
         ));
     }
-    let messages = run(&mut app, 40);
+    let messages = test.run(40);
     let named: Vec<_> = messages
         .iter()
         .map(|m| (m.collider1, m.collider2))
         .collect();
     assert!(named == [(a, b)] || named == [(b, a)], "{named:?}");
-    let state = app.world().resource::<KimpactState>();
+    let state = test.state();
     assert!(state.is_marked(a) && !state.is_marked(c) && !state.is_marked(d));
-    assert!((vel(&app, b).x - 1.0).abs() < 1e-5 && vel(&app, a).x.abs() < 1e-5);
+    assert!((test.vel(b).x - 1.0).abs() < 1e-5 && test.vel(a).x.abs() < 1e-5);
     // rapier's response (and the user's hook) in the other context.
-    assert!(
-        app.world()
-            .resource::<UserCalls>()
-            .0
-            .load(Ordering::Relaxed)
-            > 0
-    );
-    assert!(vel(&app, d).x > 0.5, "c and d met: {:?}", vel(&app, d));
-    assert!(pos(&app, d).x > pos(&app, c).x + 0.9, "c went through d");
+    assert!(test.user_calls() > 0);
+    assert!(test.vel(d).x > 0.5, "c and d met: {:?}", test.vel(d));
+    assert!(test.pos(d).x > test.pos(c).x + 0.9, "c went through d");
 }
 
 #[test]
 fn a_colliders_material_gives_its_pairs_their_own_law() {
-    let mut app = app(exact(), Timing::Fixed);
+    let mut test = Setup::new().build();
     let lossy = Material::new(0.2, 0.2).unwrap();
     // Three head-on pairs at rows y = 0, 3, 6: both balls lossy; none yet
     // (one gets the material at run time); none (the settings' elastic law).
-    let mut pairs = Vec::new();
-    for row in 0..3 {
-        let y = 3.0 * row as f32;
-        let a = ball(
-            &mut app,
-            vect(0.0, y, 0.0),
-            vect(1.0, 0.0, 0.0),
-            0.5,
-            1.0,
-            true,
-        );
-        let b = ball(&mut app, vect(1.3, y, 0.0), Vect::ZERO, 0.5, 1.0, true);
-        pairs.push((a, b));
-    }
+    let pairs: Vec<_> = (0..3)
+        .map(|row| {
+            let y = 3.0 * row as f32;
+            let a = test.ball(vect(0.0, y, 0.0), vect(1.0, 0.0, 0.0));
+            (a, test.ball(vect(1.3, y, 0.0), Vect::ZERO))
+        })
+        .collect();
     for e in [pairs[0].0, pairs[0].1] {
-        app.world_mut()
+        test.app
+            .world_mut()
             .entity_mut(e)
             .insert(KimpactCollider::with_material(lossy));
     }
-    run(&mut app, 3);
-    app.world_mut()
+    test.run(3);
+    test.app
+        .world_mut()
         .get_mut::<KimpactCollider>(pairs[1].0)
         .unwrap()
         .material = Some(lossy);
-    let messages = run(&mut app, 30);
+    let messages = test.run(30);
     let restitution = |(a, b): (Entity, Entity)| {
         let m: Vec<_> = messages
             .iter()
@@ -747,11 +1030,40 @@ fn a_colliders_material_gives_its_pairs_their_own_law() {
         "{lossy_one} vs {lossy_both}"
     );
     assert!((elastic - 1.0).abs() < 1e-5, "{elastic}");
-    let state = app.world().resource::<KimpactState>();
-    let handle = app
+    let handle = test
+        .app
         .world()
         .get::<RapierColliderHandle>(pairs[1].0)
         .unwrap()
         .0;
-    assert_eq!(state.kimpact().material(handle), Some(lossy));
+    assert_eq!(test.state().kimpact().material(handle), Some(lossy));
+}
+
+#[test]
+fn a_non_finite_body_is_quarantined_as_bevy_rapier_does() {
+    // A marked ball whose velocity becomes NaN on a collision course: no
+    // panic, rapier's quarantine disables it (RigidBodyDisabled, as
+    // bevy_rapier's own step system marks it), the others keep going.
+    for setup in [Setup::without_kimpact(), Setup::new()] {
+        let mut test = setup.build();
+        let a = test.ball(vect(0.0, 0.0, 0.0), vect(1.0, 0.0, 0.0));
+        let b = test.ball(vect(1.3, 0.0, 0.0), Vect::ZERO);
+        let c = test.ball(vect(0.0, 4.0, 0.0), vect(1.0, 0.0, 0.0));
+        test.run(2);
+        test.app
+            .world_mut()
+            .get_mut::<Velocity>(a)
+            .unwrap()
+            .linear
+            .x = f32::NAN;
+        test.run(30);
+        let world = test.app.world();
+        assert!(
+            world.get::<RigidBodyDisabled>(a).is_some(),
+            "a is not quarantined"
+        );
+        assert!(world.get::<RigidBodyDisabled>(c).is_none());
+        assert!(test.vel(c).x == 1.0 && test.pos(c).x > 0.4);
+        let _ = b;
+    }
 }
