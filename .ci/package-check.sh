@@ -50,6 +50,9 @@ for p in "${published[@]}"; do
     dir="$unpacked/$p"
     mkdir -p "$dir"
     tar -xzf "$crate" -C "$dir" --strip-components=1
+    # Fresh mtimes: tar keeps the archive's, which can be older than a
+    # previous run's build of the same path, and cargo would reuse it.
+    find "$dir" -type f -exec touch {} +
     for f in Cargo.toml README.md LICENSE-MIT LICENSE-APACHE src/lib.rs; do
         if [ -L "$dir/$f" ] || [ ! -f "$dir/$f" ] || [ ! -s "$dir/$f" ]; then
             echo "error: $p-$version.crate has no regular, non-empty $f" >&2
