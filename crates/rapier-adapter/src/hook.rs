@@ -26,10 +26,9 @@ pub struct StepHooks<'a> {
     pub(crate) frame: Option<StepFrame>,
     pub(crate) mode: Mode,
     pub(crate) marks: &'a Marks,
-    /// Per collider index: whether `MODIFY_SOLVER_CONTACTS` is set by
-    /// kimpact (not by the user).
-    pub(crate) ours: &'a [bool],
-    /// Which flagged colliders touch something this step.
+    /// The step's hook flags: which colliders kimpact flagged (not the
+    /// user, [`Prepare::ours`]) and which of them touch something
+    /// ([`Prepare::is_crowded`]).
     pub(crate) prepare: &'a Prepare,
     pub(crate) fixed_partners: bool,
     pub(crate) candidates: &'a Candidates,
@@ -44,7 +43,12 @@ impl StepHooks<'_> {
         colliders.get(c).is_some_and(|co| {
             co.active_hooks()
                 .contains(ActiveHooks::MODIFY_SOLVER_CONTACTS)
-        }) && !self.ours.get(index as usize).copied().unwrap_or(false)
+        }) && !self
+            .prepare
+            .ours
+            .get(index as usize)
+            .copied()
+            .unwrap_or(false)
     }
 }
 

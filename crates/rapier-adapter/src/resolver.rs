@@ -405,8 +405,6 @@ impl Kimpact {
         }
         if matches!(mode, Mode::Impulse | Mode::Restitution) {
             self.prepare.find_crowded(narrow_phase);
-        }
-        if matches!(mode, Mode::Impulse | Mode::Restitution) {
             // Impulse: the law on every impact seen coming. Restitution: only
             // on those of fast bodies, which rapier could let pass.
             let input = ReplayInput {
@@ -458,7 +456,6 @@ impl Kimpact {
             frame: self.prepared.map(|p| p.frame),
             mode: self.prepared.map_or(Mode::Native, |p| p.mode),
             marks: &self.marks,
-            ours: &self.prepare.ours,
             prepare: &self.prepare,
             fixed_partners: self.config.fixed_partners,
             candidates: &self.candidates,
