@@ -10,16 +10,13 @@ use core::str::FromStr;
 /// How kimpact takes part in a step of a rapier adapter: the accuracy
 /// ladder, cheapest first (the order of `Ord`).
 ///
-/// | mode | who applies the law | when |
-/// | --- | --- | --- |
-/// | `Native` | nobody: rapier unchanged | — |
-/// | `Restitution` | rapier's solver, with the law's restitution per manifold | at detection |
-/// | `Impulse` | kimpact, before rapier's step, in time order, velocities only | the step of the impact |
-/// | `Exact` | kimpact, in time order, at the analytic time of impact | inside the step |
+/// | mode | who finds the impacts | who applies the law | when |
+/// | --- | --- | --- | --- |
+/// | `Native` | rapier | nobody: rapier unchanged | — |
+/// | `Restitution` | rapier (kimpact for bodies fast enough to tunnel) | rapier's solver, with the law's restitution per manifold | at detection |
+/// | `Impulse` | rapier's contacts (kimpact for bodies fast enough to tunnel) | kimpact, in time order | at the analytic time of impact, inside the step |
+/// | `Exact` | rapier's contacts and kimpact's sweeps of every body that outruns rapier's prediction distance | kimpact, in time order | at the analytic time of impact, inside the step |
 ///
-/// Its names (`native`, `restitution`, `impulse`, `exact`) are the same in
-/// [`Display`](fmt::Display), [`FromStr`], scene files and, with the `serde`
-/// feature, serde.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
@@ -31,18 +28,21 @@ pub enum Mode {
     /// for an isolated impact, inherits rapier's errors when contacts are
     /// simultaneous (Newton's cradle).
     Restitution,
-    /// Before rapier's step, kimpact finds the impacts the marked bodies are
-    /// about to have this step (exact linear times of impact, chains through
-    /// touching bodies, in time order) and applies the law's velocity
-    /// changes; rapier's solver then integrates the new velocities with
-    /// every contact in place (the law's pairs separate, so rapier never
-    /// bounces them, and still keeps them from overlapping). Velocities are
-    /// the law's to rounding; positions are as if each impact happened at the
-    /// start of its step (off by at most `|Δv| dt`).
+    /// The replay of `Exact` on the pairs rapier's contacts hold (and those
+    /// of bodies that move more than half their size per step): the law at
+    /// each impact's time of impact, in time order, chains through touching
+    /// bodies, positions written back. A pair that rapier's contacts did
+    /// not reach at the step's start (farther apart than its prediction
+    /// distance) is first seen overlapping at the next step and rewound to
+    /// its time of impact then; a graze that begins and ends within one
+    /// step there is missed. Cheaper than `Exact` where bodies outrun the
+    /// prediction distance (a gas), the same where they do not.
     Impulse,
     /// Impacts are resolved in time order inside the step at their analytic
     /// time of impact (with rewinds for pairs first seen overlapping, and
-    /// chains through touching bodies), positions written back.
+    /// chains through touching bodies), positions written back; every body
+    /// that moves more than half rapier's prediction distance per step is
+    /// swept, so no impact waits for rapier's contacts.
     #[default]
     Exact,
 }

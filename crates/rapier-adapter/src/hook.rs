@@ -126,7 +126,7 @@ impl PhysicsHooks for StepHooks<'_> {
         // by the balls under it, into one falling onto it), and only the
         // contact keeps the two apart.
         let reach = (approach + margin) * dt;
-        if self.mode != Mode::Exact
+        if self.mode == Mode::Restitution
             && approach > rest_speed
             && dist > 0.0
             && dist <= reach
@@ -146,11 +146,7 @@ impl PhysicsHooks for StepHooks<'_> {
         }
         match self.mode {
             Mode::Native => {}
-            // Impulse mode resolved the impacts it could see coming before
-            // the step (those pairs now separate); a pair it could not see
-            // (inserted since the last step, or not yet in rapier's broad
-            // phase) gets the law through rapier's restitution instead.
-            Mode::Restitution | Mode::Impulse => {
+            Mode::Restitution => {
                 let tangential = (w + n * approach).length();
                 let law = self.marks.law(self.law, c1, c2);
                 match law.restitution(b1.mass, b2.mass, approach, tangential) {
@@ -169,7 +165,7 @@ impl PhysicsHooks for StepHooks<'_> {
                     _ => *rigid.restitution = 0.0,
                 }
             }
-            Mode::Exact => {
+            Mode::Impulse | Mode::Exact => {
                 // rapier leaves the pair alone this step; kimpact resolves it
                 // after the step.
                 rigid.solver_contacts.clear();

@@ -1,5 +1,5 @@
 //! Before rapier's step: which colliders get kimpact's contact hook this
-//! step, and where exact mode's bodies start it.
+//! step, and where the replaying modes' (impulse, exact) bodies start it.
 //!
 //! A hook on a pair costs rapier its contact recycling for that pair, so
 //! only the marked colliders of bodies that could start an impact get
@@ -55,7 +55,7 @@ pub(crate) struct Prepare {
     /// a woken body to its active set only inside the next step, so `run`
     /// looks at them then.
     pub woken: Vec<RigidBodyHandle>,
-    /// Per body index: start-of-step translation (exact mode).
+    /// Per body index: start-of-step translation (impulse and exact mode).
     #[cfg_attr(feature = "serde-serialize", serde(skip))]
     pub starts: Starts,
     /// Calm neighbourhoods (`Config::calm_neighbourhoods`).
@@ -65,7 +65,7 @@ pub(crate) struct Prepare {
 impl Prepare {
     /// Set the hook flag on the marked colliders of moving, awake dynamic
     /// bodies (only they can start an impact), clear the flags we set on
-    /// others, and, in exact mode, store where those bodies start the step.
+    /// others, and, in impulse and exact mode, store where those bodies start the step.
     ///
     /// Walks rapier's active (awake) bodies, the colliders marked since the
     /// last step and the bodies kimpact woke (rapier adds those to its active
@@ -91,7 +91,7 @@ impl Prepare {
         self.flagged.clear();
         if mode != Mode::Native {
             let threshold = 0.5 * rest_speed;
-            let exact = mode == Mode::Exact;
+            let replays = crate::mode::replays(mode);
             let fast = if input.calm_neighbourhoods && self.calm.wanted() {
                 let (fast, calm) = self.prepare_calm(input, colliders);
                 calm_bodies = calm;
@@ -115,7 +115,7 @@ impl Prepare {
                     if rb.linvel().length_squared() > threshold * threshold {
                         fast += usize::from(rb.is_dynamic());
                         self.prepare_rb(handle, rb, colliders, marks, mode, threshold);
-                    } else if exact {
+                    } else if replays {
                         self.starts.store(handle, rb.translation());
                     }
                 }
@@ -248,13 +248,13 @@ impl Prepare {
         } else {
             rb.colliders().iter().any(|&ch| marks.contains(ch))
         };
-        if any_marked && mode == Mode::Exact {
+        if any_marked && crate::mode::replays(mode) {
             self.starts.store(handle, rb.translation());
         }
     }
 
     /// The pass of `prepare` with calm neighbourhoods (see the `calm`
-    /// module): every awake body is taken (its start stored in exact mode),
+    /// module): every awake body is taken (its start stored in impulse and exact mode),
     /// judged, and a fast body flagged unless calm. The number of fast
     /// bodies and the number left calm.
     fn prepare_calm(&mut self, input: &PrepareInput, colliders: &mut ColliderSet) -> (usize, u64) {
@@ -276,7 +276,7 @@ impl Prepare {
             ..
         } = *input;
         let threshold = 0.5 * rest_speed;
-        let exact = mode == Mode::Exact;
+        let replays = crate::mode::replays(mode);
         let mut calm = std::mem::take(&mut self.calm);
         calm.begin();
         let judged = {
@@ -295,7 +295,7 @@ impl Prepare {
                     continue;
                 };
                 let is_fast = rb.linvel().length_squared() > threshold * threshold;
-                if exact {
+                if replays {
                     self.starts.store(handle, rb.translation());
                 }
                 calm.take(&frame, handle, rb, is_fast);

@@ -359,9 +359,9 @@ impl Kimpact {
     /// hook flag (`ActiveHooks::MODIFY_SOLVER_CONTACTS`) on the marked
     /// colliders of the bodies that could start an impact this step (and
     /// clears the flags it set last step on others), stores where exact
-    /// mode's bodies start, and, in `Impulse` and `Restitution` mode, runs
-    /// the pass before the step (the law's velocity changes of the impacts
-    /// seen coming, written into `bodies`). Clears [`Kimpact::events`].
+    /// mode's bodies start, and, in `Restitution` mode, runs the pass before
+    /// the step (the law's velocity changes of the impacts of bodies fast
+    /// enough to tunnel, written into `bodies`). Clears [`Kimpact::events`].
     ///
     /// Takes the same gravity, integration parameters and user hooks
     /// (`hooks`, or `&()`) as the step that follows, and rapier's sets as
@@ -403,10 +403,10 @@ impl Kimpact {
             self.prepare
                 .wake_moving(bodies, colliders, frame.rest_speed);
         }
-        if matches!(mode, Mode::Impulse | Mode::Restitution) {
+        if mode == Mode::Restitution {
             self.prepare.find_crowded(narrow_phase);
-            // Impulse: the law on every impact seen coming. Restitution: only
-            // on those of fast bodies, which rapier could let pass.
+            // The law on the impacts of fast bodies, which rapier could let
+            // pass; the others get it through rapier's restitution.
             let input = ReplayInput {
                 law: &self.law,
                 config: &self.config,
@@ -428,7 +428,6 @@ impl Kimpact {
                 colliders,
                 narrow_phase,
                 broad_phase,
-                mode,
             );
             // Bodies set moving by an impact need the hook this step too.
             for handle in self.replay.hit_bodies() {
@@ -464,10 +463,10 @@ impl Kimpact {
         }
     }
 
-    /// Stage 3, after `PhysicsPipeline::step`: in `Exact` mode, the replay
-    /// of the step's impacts in time order (positions and velocities of
-    /// the bodies it bends are written into `bodies`); in `Restitution` and
-    /// `Impulse` mode, the events of the impacts rapier's solver bounced
+    /// Stage 3, after `PhysicsPipeline::step`: in `Impulse` and `Exact`
+    /// mode, the replay of the step's impacts in time order (positions and
+    /// velocities of the bodies it bends are written into `bodies`); in
+    /// `Restitution` mode, the events of the impacts rapier's solver bounced
     /// with the law's restitution. Fills [`Kimpact::events`] and
     /// [`Kimpact::stats`].
     ///
@@ -499,8 +498,8 @@ impl Kimpact {
         self.candidates.collect();
         match mode {
             Mode::Native => {}
-            Mode::Restitution | Mode::Impulse => self.report_restitution(narrow_phase),
-            Mode::Exact => {
+            Mode::Restitution => self.report_restitution(narrow_phase),
+            Mode::Impulse | Mode::Exact => {
                 let input = ReplayInput {
                     law: &self.law,
                     config: &self.config,
@@ -522,6 +521,7 @@ impl Kimpact {
                     colliders,
                     narrow_phase,
                     broad_phase,
+                    mode,
                 );
             }
         }

@@ -1,6 +1,6 @@
-//! Exact mode: the impacts of one step, resolved in time order at their
-//! analytic times of impact, after rapier's step (and impulse mode's pass
-//! before it).
+//! Impulse and exact mode: the impacts of one step, resolved in time order
+//! at their analytic times of impact, after rapier's step (and restitution
+//! mode's pass before it, for bodies fast enough to tunnel).
 //!
 //! rapier integrates positions with the velocity it solved, so within a step
 //! every body moves on a straight line from its start `x₀` to its end `x₁`,
@@ -19,10 +19,20 @@
 //! At the end each body that took part gets `x = x(dt)` and
 //! `v = v_rapier + Σ Δv`.
 //!
-//! Impulse mode runs the same replay *before* rapier's step (`run_pre`):
-//! the lines are the ones rapier is about to integrate (`x₀ + (v + g dt) t`),
-//! a body's line after an impact restarts from `x₀` with its new velocity
-//! (that is how rapier will move it), and only velocities are written back.
+//! The pairs are those rapier's contacts hold (the hook's candidates) and
+//! those of bodies that move more than half their size per step (swept, as
+//! they can cross a partner unseen). Exact mode also sweeps every body that
+//! moves more than half rapier's prediction distance, which can meet a
+//! partner rapier's contacts did not reach yet; impulse mode leaves such a
+//! pair to the next step, where rapier first sees it overlapping and the
+//! replay rewinds it (a graze that begins and ends within the step is
+//! missed).
+//!
+//! Restitution mode runs the same replay *before* rapier's step
+//! (`run_pre`) for its fast bodies only: the lines are the ones rapier is
+//! about to integrate (`x₀ + (v + g dt) t`), a body's line after an impact
+//! restarts from `x₀` with its new velocity (that is how rapier will move
+//! it), and only velocities are written back.
 
 use std::cmp::Ordering;
 
@@ -214,13 +224,14 @@ impl Slot {
 /// When the replay runs, relative to rapier's step.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
 enum Phase {
-    /// `Exact`: after the step, on the straight lines rapier moved the
-    /// bodies along; positions and velocities are written back.
+    /// `Impulse`, `Exact`: after the step, on the straight lines rapier
+    /// moved the bodies along; positions and velocities are written back.
     #[default]
     Post,
-    /// `Impulse`: before the step, on the lines the bodies are about to
-    /// follow (`v + g dt`); only velocities are written back, so rapier's
-    /// solver integrates the new velocities with every contact it keeps.
+    /// `Restitution`: before the step, for the bodies fast enough to
+    /// tunnel, on the lines they are about to follow (`v + g dt`); only
+    /// velocities are written back, so rapier's solver integrates the new
+    /// velocities with every contact it keeps.
     Pre,
 }
 
@@ -456,16 +467,14 @@ impl Replay {
         }
     }
 
-    /// Before rapier's step: the impacts the bodies are about to have this
-    /// step, resolved in time order on the velocities they have now. The
-    /// pairs are those the broad phase finds along the path of fast bodies
-    /// (more than half their size per step, which rapier could miss) and,
-    /// with `narrow` (`Impulse` mode), every governed pair rapier's narrow
-    /// phase holds for a moving marked collider. Only velocities change;
-    /// rapier's solver then integrates them with every contact in place (the
-    /// law's pairs separate, so their contacts carry no impulse unless
-    /// something pushes the pair together again).
-    #[allow(clippy::too_many_arguments)]
+    /// Restitution mode, before rapier's step: the impacts the bodies fast
+    /// enough to tunnel (more than half their size per step, which rapier
+    /// could miss) are about to have this step, with the pairs the broad
+    /// phase finds along their paths, resolved in time order on the
+    /// velocities they have now. Only velocities change; rapier's solver
+    /// then integrates them with every contact in place (the law's pairs
+    /// separate, so their contacts carry no impulse unless something pushes
+    /// the pair together again).
     pub(crate) fn run_pre(
         &mut self,
         input: &ReplayInput,
@@ -474,50 +483,17 @@ impl Replay {
         colliders: &ColliderSet,
         narrow_phase: &NarrowPhase,
         broad_phase: &BroadPhaseBvh,
-        mode: Mode,
     ) {
         let StepFrame {
             gravity,
             dt,
             rest_speed,
-            prediction,
             ..
         } = input.frame;
-        // Impulse mode takes every governed pair of the narrow phase;
-        // restitution only the fast bodies' sweeps.
-        let narrow = mode == Mode::Impulse;
         if !self.begin(Phase::Pre, gravity, dt, rest_speed) {
             return;
         }
-        // Impulse mode sweeps what the narrow phase cannot have seen (see
-        // `run`); restitution only what could tunnel.
-        self.sweep_reach = if narrow {
-            0.5 * prediction
-        } else {
-            Real::INFINITY
-        };
-        let config = *input.config;
-        let seeded = if narrow { input.flagged.len() } else { 0 };
-        for j in 0..seeded {
-            let ch = input.flagged[j];
-            for cp in narrow_phase.contact_pairs_with(ch) {
-                if !input.marks.governs(
-                    config.fixed_partners,
-                    colliders,
-                    bodies,
-                    cp.collider1,
-                    cp.collider2,
-                ) || !self.may_meet(bodies, colliders, cp.collider1, cp.collider2, dt)
-                {
-                    continue;
-                }
-                if let Some(i) =
-                    self.add_pair(input, bodies, colliders, cp.collider1, cp.collider2, dt)
-                {
-                    self.predict(bodies, colliders, i, 0.0, dt, true);
-                }
-            }
-        }
+        self.sweep_reach = Real::INFINITY;
         self.sweep_fast_bodies(input, bodies, colliders, broad_phase, dt);
         self.resolve(input, out, bodies, colliders, narrow_phase, broad_phase, dt);
         // In node order, as a walk over every node would take them.
@@ -552,7 +528,9 @@ impl Replay {
         })
     }
 
-    /// Resolve this step's impacts in time order and write the results back.
+    /// After rapier's step (`Impulse`, `Exact`): resolve this step's impacts
+    /// in time order and write the results back. Exact mode also sweeps the
+    /// bodies that can reach a partner rapier's contacts did not.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn run(
         &mut self,
@@ -562,6 +540,7 @@ impl Replay {
         colliders: &ColliderSet,
         narrow_phase: &NarrowPhase,
         broad_phase: &BroadPhaseBvh,
+        mode: Mode,
     ) {
         let StepFrame {
             gravity,
@@ -577,8 +556,14 @@ impl Replay {
         // the start-of-step shapes. Two bodies each moving at most half of
         // that close at most all of it, so they were seen; a body moving
         // more may reach a partner unseen (a gas ball at 3 m/s moves 0.05
-        // per step at 60 Hz, the prediction is 0.02), and is swept.
-        self.sweep_reach = 0.5 * prediction;
+        // per step at 60 Hz, the prediction is 0.02), and is swept in exact
+        // mode. Impulse mode sweeps only what could tunnel: a pair rapier
+        // did not reach is first seen overlapping next step, and rewound.
+        self.sweep_reach = if mode == Mode::Exact {
+            0.5 * prediction
+        } else {
+            Real::INFINITY
+        };
         for j in 0..input.candidates.len() {
             let c: Candidate = input.candidates[j];
             if let Some(i) = self.add_pair(input, bodies, colliders, c.collider1, c.collider2, dt) {

@@ -33,6 +33,11 @@ impl Replay {
             if self.phase == Phase::Post && input.starts.of(handle).is_none() {
                 continue;
             }
+            // Before the step a node's path is the body's own: a body too
+            // slow to be swept needs no node (restitution mode's gas, table).
+            if self.phase == Phase::Pre && !self.moves_far(bodies, colliders, ch, handle, dt) {
+                continue;
+            }
             let n = self.node(input, bodies, ch, Some(handle), dt);
             if let Some((aabb, ball)) = self.swept_aabb(bodies, colliders, ch, n, 0.0, dt, None) {
                 sweepers.push(Sweeper {
@@ -56,6 +61,31 @@ impl Replay {
             }
         }
         self.sweepers = sweepers;
+    }
+
+    /// Before the step: whether collider `ch` of body `handle` moves far
+    /// enough along the body's path this step to be swept, the test of
+    /// [`Replay::swept_aabb`] on the path its node would get.
+    fn moves_far(
+        &self,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        ch: ColliderHandle,
+        handle: RigidBodyHandle,
+        dt: Real,
+    ) -> bool {
+        let (Some(rb), Some(co)) = (bodies.get(handle), colliders.get(ch)) else {
+            return true;
+        };
+        let half = match co.shape().as_ball() {
+            Some(ball) => ball.radius,
+            None => {
+                let aabb = co.compute_aabb();
+                0.5 * (aabb.maxs - aabb.mins).min_element()
+            }
+        };
+        // Not `<=`: a NaN length is swept as before (and cut off there).
+        !((path_velocity(rb, self.gravity_dt) * dt).length() <= half.min(self.sweep_reach))
     }
 
     /// The box collider `ch` of node `n` sweeps from `from` to the end of the
