@@ -84,8 +84,7 @@ impl Replay {
                 0.5 * (aabb.maxs - aabb.mins).min_element()
             }
         };
-        // Not `<=`: a NaN length is swept as before (and cut off there).
-        !((path_velocity(rb, self.gravity_dt) * dt).length() <= half.min(self.sweep_reach))
+        (path_velocity(rb, self.gravity_dt) * dt).length() > half.min(self.sweep_reach)
     }
 
     /// The box collider `ch` of node `n` sweeps from `from` to the end of the
