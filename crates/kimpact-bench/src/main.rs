@@ -12,6 +12,9 @@
 //! allocations per step, peak RSS, the budgets of issue 6 as PASS/MISS,
 //! scaling slopes) and writes `results.csv`, `results.md` and one
 //! `scaling-<scene>-<precision>.svg` per scene with several ball counts.
+//! The small scenes (a step of microseconds) are timed by whole blocks of
+//! steps over repeated episodes. `--effects` measures instead what each
+//! effect costs on a base scene without any (see `effects.rs`).
 //!
 //! Benchmarks are not tests: nothing here fails on a timing.
 // `f64::from(x)` converts in the f32 builds and is the identity in the f64 ones.
