@@ -12,12 +12,16 @@
 //! allocations per step, peak RSS, the budgets of issue 6 as PASS/MISS,
 //! scaling slopes) and writes `results.csv`, `results.md` and one
 //! `scaling-<scene>-<precision>.svg` per scene with several ball counts.
+//! The small scenes (a step of microseconds) are timed by whole blocks of
+//! steps over repeated episodes. `--effects` measures instead what each
+//! effect costs on a base scene without any (see `effects.rs`).
 //!
 //! Benchmarks are not tests: nothing here fails on a timing.
 // `f64::from(x)` converts in the f32 builds and is the identity in the f64 ones.
 #![allow(clippy::useless_conversion, clippy::unnecessary_cast)]
 
 mod alloc;
+mod effects;
 mod memory;
 mod report;
 
@@ -35,21 +39,29 @@ static ALLOCATOR: alloc::Counting = alloc::Counting;
 mod d2 {
     use kimpact2d as k;
     include!("scene.rs");
+    include!("small.rs");
+    include!("effect_scene.rs");
 }
 
 mod d3 {
     use kimpact3d as k;
     include!("scene.rs");
+    include!("small.rs");
+    include!("effect_scene.rs");
 }
 
 mod d2_f64 {
     use kimpact2d_f64 as k;
     include!("scene.rs");
+    include!("small.rs");
+    include!("effect_scene.rs");
 }
 
 mod d3_f64 {
     use kimpact3d_f64 as k;
     include!("scene.rs");
+    include!("small.rs");
+    include!("effect_scene.rs");
 }
 
 /// The bench scenes.
@@ -76,30 +88,62 @@ pub enum Scene {
     /// 2D, no gravity: one cue ball moving through resting balls (awake).
     #[value(name = "cue")]
     Cue,
+    /// 3D, rapier's examples3d/restitution3.rs: 22 balls of restitution
+    /// 0..1 dropped on a floor (22 balls).
+    #[value(name = "restitution3")]
+    Restitution3,
+    /// Its 2D twin, rapier's examples2d/restitution2.rs (22 balls).
+    #[value(name = "restitution2")]
+    Restitution2,
+    /// 2D pinball: 3 balls on a tilted table (a polyline outline, fixed
+    /// bumpers) and two kinematic flippers swinging periodically.
+    #[value(name = "pinball")]
+    Pinball,
 }
 
 impl Scene {
     /// Every scene, in table order.
-    pub const ALL: [Scene; 6] = [
+    pub const ALL: [Scene; 9] = [
         Scene::Pit3d,
         Scene::Pit2d,
         Scene::Gas3d,
         Scene::Gas2d,
         Scene::Billiards,
         Scene::Cue,
+        Scene::Restitution3,
+        Scene::Restitution2,
+        Scene::Pinball,
     ];
 
     /// The scene's dimension.
     pub fn dim(self) -> usize {
         match self {
-            Scene::Pit3d | Scene::Gas3d => 3,
+            Scene::Pit3d | Scene::Gas3d | Scene::Restitution3 => 3,
             _ => 2,
         }
     }
 
-    /// Whether `--balls` sets its size (billiards has 16 balls).
+    /// The balls of a scene whose size is fixed (`--balls` does not set
+    /// it), `None` for the scenes that scale.
+    pub fn fixed_balls(self) -> Option<usize> {
+        match self {
+            Scene::Billiards => Some(16),
+            Scene::Restitution3 | Scene::Restitution2 => Some(22),
+            Scene::Pinball => Some(3),
+            _ => None,
+        }
+    }
+
+    /// Whether `--balls` sets its size.
     pub fn scales(self) -> bool {
-        self != Scene::Billiards
+        self.fixed_balls().is_none()
+    }
+
+    /// A small scene (the fixed-size ones): a step of a few microseconds,
+    /// timed by whole blocks of steps over repeated episodes (see
+    /// `--small-block`).
+    pub fn small(self) -> bool {
+        !self.scales()
     }
 
     /// The name used on the command line and in the outputs.
@@ -111,8 +155,70 @@ impl Scene {
             Scene::Gas2d => "gas2d",
             Scene::Billiards => "billiards",
             Scene::Cue => "cue",
+            Scene::Restitution3 => "restitution3",
+            Scene::Restitution2 => "restitution2",
+            Scene::Pinball => "pinball",
         }
     }
+}
+
+/// An angular velocity (or rotation) about the z axis, for the scenes'
+/// one source: a scalar in 2D, a vector in 3D.
+pub trait AboutZ<R> {
+    /// The angle or angular speed `a` about z.
+    fn about_z(a: R) -> Self;
+}
+
+impl AboutZ<f32> for f32 {
+    fn about_z(a: f32) -> Self {
+        a
+    }
+}
+
+impl AboutZ<f64> for f64 {
+    fn about_z(a: f64) -> Self {
+        a
+    }
+}
+
+impl AboutZ<f32> for kimpact3d::math::Vector {
+    fn about_z(a: f32) -> Self {
+        Self::Z * a
+    }
+}
+
+impl AboutZ<f64> for kimpact3d_f64::math::Vector {
+    fn about_z(a: f64) -> Self {
+        Self::Z * a
+    }
+}
+
+/// What a measured run builds: a scene of the matrix, or (with `effect`)
+/// a configuration of the effects table on the scene's base.
+#[derive(Copy, Clone, Debug)]
+pub struct Setup {
+    pub scene: Scene,
+    pub balls: usize,
+    pub mode: Mode,
+    pub effect: Option<effects::Effect>,
+}
+
+/// How a timing run steps its two worlds.
+#[derive(Copy, Clone, Debug)]
+pub struct Timing {
+    /// Steps before measuring, in every episode.
+    pub warmup: usize,
+    /// Measured steps per episode, per world.
+    pub steps: usize,
+    /// Steps per block (native's block, then the mode's).
+    pub block: usize,
+    /// Time each block as a whole (one clock reading per block, the time
+    /// per step its time over its steps) instead of each step.
+    pub time_blocks: bool,
+    /// Episodes: the two worlds are built anew, warmed up and measured this
+    /// many times (the scenes are deterministic: each episode repeats the
+    /// same steps).
+    pub repeats: usize,
 }
 
 /// The accuracy ladder and the precision of a run: the core's types, the
@@ -191,6 +297,15 @@ pub struct Pair {
     pub parallel: bool,
     pub warmup: usize,
     pub block: usize,
+    /// Whether each block was timed whole (a sample per block).
+    #[serde(default)]
+    pub time_blocks: bool,
+    /// Episodes measured (each built anew).
+    #[serde(default)]
+    pub repeats: usize,
+    /// The configuration of the effects table, if this is one.
+    #[serde(default)]
+    pub effect: Option<effects::Effect>,
     pub native: Measure,
     pub law: Measure,
 }
@@ -204,6 +319,9 @@ pub struct Solo {
     pub mode: Mode,
     pub precision: Precision,
     pub steps: usize,
+    /// The configuration of the effects table, if this is one.
+    #[serde(default)]
+    pub effect: Option<effects::Effect>,
     /// Allocations during the measured steps (untimed run).
     pub allocs: u64,
     /// `VmHWM` after warm-up and the measured steps, KiB.
@@ -225,80 +343,113 @@ pub struct Solo {
 /// memory and allocations, scaling, and the budgets of the issue.
 #[derive(Parser, Debug)]
 #[command(name = "kimpact-bench", version)]
-struct Cli {
+pub(crate) struct Cli {
     /// Scenes to run (comma-separated).
     #[arg(long, value_enum, value_delimiter = ',', default_values_t = Scene::ALL)]
-    scene: Vec<Scene>,
+    pub(crate) scene: Vec<Scene>,
     /// Ball counts for the scenes that scale (all but billiards).
     #[arg(long, value_delimiter = ',', default_values_t = [1000usize, 10000])]
-    balls: Vec<usize>,
+    pub(crate) balls: Vec<usize>,
     /// Add the 100,000-ball size (slow: minutes per scene).
     #[arg(long)]
-    big: bool,
+    pub(crate) big: bool,
     /// Law modes to run; native always runs too (it is the reference).
     #[arg(long, value_parser = names_parser::<Mode, _>(Mode::ALL.map(Mode::name)), value_delimiter = ',', default_values_t = Mode::ALL)]
-    mode: Vec<Mode>,
+    pub(crate) mode: Vec<Mode>,
     /// Precisions to run.
     #[arg(long, value_parser = names_parser::<Precision, _>(Precision::ALL.map(Precision::name)), value_delimiter = ',', default_values_t = Precision::ALL)]
-    precision: Vec<Precision>,
+    pub(crate) precision: Vec<Precision>,
     /// Measured steps per run (the budgets need at least 200).
     #[arg(long, default_value_t = 200)]
-    steps: usize,
+    pub(crate) steps: usize,
     /// Steps of the memory runs (each mode alone: peak RSS, and the
-    /// attribution of allocations), after the same warm-up.
+    /// attribution of allocations), after the warm-up (`--memory-warmup`).
     #[arg(long, default_value_t = 50)]
-    memory_steps: usize,
+    pub(crate) memory_steps: usize,
     /// Steps before measuring, in every run.
     #[arg(long, default_value_t = 50)]
-    warmup: usize,
+    pub(crate) warmup: usize,
+    /// Steps before measuring in the memory runs (peak RSS and the
+    /// attribution of allocations), when not `--warmup`: a long one
+    /// (600) reaches the steady state in which kimpact allocates nothing.
+    #[arg(long)]
+    pub(crate) memory_warmup: Option<usize>,
     /// Timing runs per mode (each a child process running native and the
     /// mode in lockstep); the medians pool them.
     #[arg(long, default_value_t = 1)]
-    rounds: usize,
-    /// Steps per block when alternating native and the mode in a timing run.
+    pub(crate) rounds: usize,
+    /// Steps per block when alternating native and the mode in a timing run
+    /// of a scene that scales (each step timed).
     #[arg(long, default_value_t = 10)]
-    block: usize,
+    pub(crate) block: usize,
+    /// Steps per block in the small scenes (billiards, restitution3,
+    /// restitution2, pinball), each block timed whole: a step of a few
+    /// microseconds is too short to time alone.
+    #[arg(long, default_value_t = 100)]
+    pub(crate) small_block: usize,
+    /// Episodes per timing run of a small scene: both worlds are built anew,
+    /// warmed up and measured this many times, for enough blocks.
+    #[arg(long, default_value_t = 100)]
+    pub(crate) small_repeats: usize,
+    /// Measure the effects table instead of the matrix: on the base scene
+    /// (the first of `--scene`, gas3d or gas2d; the first of `--balls`,
+    /// `--precision`), each effect on and off, in every law mode; writes
+    /// effects.md, effects.csv and effects-raw.json into `--out`.
+    #[arg(long)]
+    pub(crate) effects: bool,
+    /// Internal (with --pair/--solo): time each block whole.
+    #[arg(long, hide = true)]
+    pub(crate) time_blocks: bool,
+    /// Internal (with --pair): episodes.
+    #[arg(long, hide = true, default_value_t = 1)]
+    pub(crate) repeats: usize,
+    /// Internal (with --pair/--solo): a configuration of the effects table.
+    #[arg(long, hide = true, value_enum)]
+    pub(crate) effect: Option<effects::Effect>,
     /// Which time the medians and ratios use: process CPU time (default;
     /// the machine may be shared) or wall time. Both go in the CSV.
     #[arg(long, value_enum, default_value_t = Clock::Cpu)]
-    clock: Clock,
+    pub(crate) clock: Clock,
     /// Where results.csv, results.md and the plots go.
     #[arg(long, default_value = "target/kimpact-bench")]
-    out: PathBuf,
+    pub(crate) out: PathBuf,
     /// Seconds before a child run is killed and reported as timed out.
     #[arg(long, default_value_t = 600)]
-    timeout: u64,
+    pub(crate) timeout: u64,
     /// Skip the untimed pass that attributes the heap allocations of the
     /// measured steps to kimpact or rapier from their stacks (every one
     /// classified; each distinct stack symbolized once).
     #[arg(long)]
-    no_attribute: bool,
+    pub(crate) no_attribute: bool,
     /// Switch off kimpact's calm-neighbourhood test
     /// (`Config::calm_neighbourhoods`): every body faster than half the rest
     /// speed carries the contact hook, as before the test existed. To
     /// measure what the test buys.
     #[arg(long)]
-    no_calm: bool,
+    pub(crate) no_calm: bool,
     /// Internal (with --solo): run the attribution pass.
     #[arg(long, hide = true)]
-    attribute: bool,
+    pub(crate) attribute: bool,
     /// Rebuild the table, CSV and plots from `<out>/raw.json` of an earlier
     /// run, without running anything.
     #[arg(long)]
-    rerender: bool,
+    pub(crate) rerender: bool,
     /// Internal: run one timing pair (native and the first mode) in this
     /// process and print it as JSON.
     #[arg(long, hide = true)]
-    pair: bool,
+    pub(crate) pair: bool,
     /// Internal: run one mode alone for memory (and attribution with
     /// --attribute) and print it as JSON.
     #[arg(long, hide = true)]
-    solo: bool,
+    pub(crate) solo: bool,
 }
 
 /// A child process of this binary, its JSON answer parsed; `Err` with the
 /// reason when it failed (a panic, a timeout, no answer).
-fn spawn_child<T: serde::de::DeserializeOwned>(cli: &Cli, args: &[String]) -> Result<T, String> {
+pub(crate) fn spawn_child<T: serde::de::DeserializeOwned>(
+    cli: &Cli,
+    args: &[String],
+) -> Result<T, String> {
     let exe = std::env::current_exe().map_err(|e| format!("no executable path: {e}"))?;
     let mut child = Command::new(exe)
         .args(args)
@@ -355,7 +506,7 @@ fn spawn_child<T: serde::de::DeserializeOwned>(cli: &Cli, args: &[String]) -> Re
 }
 
 /// The arguments of a child for one configuration.
-fn child_args(
+pub(crate) fn child_args(
     cli: &Cli,
     kind: &str,
     scene: Scene,
@@ -380,14 +531,28 @@ fn child_args(
     .iter()
     .map(|s| (*s).to_owned())
     .collect();
+    let small = scene.small();
+    let warmup = match kind {
+        "--solo" => cli.memory_warmup.unwrap_or(cli.warmup),
+        _ => cli.warmup,
+    };
+    let (block, repeats) = match (small, kind) {
+        (true, "--pair") => (cli.small_block, cli.small_repeats),
+        (true, _) => (cli.small_block, 1),
+        (false, _) => (cli.block, 1),
+    };
     for (flag, value) in [
         ("--balls", balls),
         ("--steps", steps),
-        ("--warmup", cli.warmup),
-        ("--block", cli.block),
+        ("--warmup", warmup),
+        ("--block", block),
+        ("--repeats", repeats),
     ] {
         args.push(flag.to_owned());
         args.push(value.to_string());
+    }
+    if small {
+        args.push("--time-blocks".to_owned());
     }
     if cli.no_calm {
         args.push("--no-calm".to_owned());
@@ -415,23 +580,36 @@ fn child_main(cli: &Cli) -> ExitCode {
         eprintln!("--pair/--solo need a scene, a ball count, a mode and a precision");
         return ExitCode::FAILURE;
     };
-    let (w, st) = (cli.warmup, cli.steps);
+    let setup = Setup {
+        scene,
+        balls,
+        mode,
+        effect: cli.effect,
+    };
+    let timing = Timing {
+        warmup: cli.warmup,
+        steps: cli.steps,
+        block: cli.block,
+        time_blocks: cli.time_blocks,
+        repeats: cli.repeats,
+    };
+    let run = (scene.dim(), precision);
     let json = if cli.pair {
-        let (b, run) = (cli.block, (scene.dim(), precision));
         let pair = match run {
-            (2, Precision::F32) => d2::run_pair(scene, balls, mode, w, st, b),
-            (2, Precision::F64) => d2_f64::run_pair(scene, balls, mode, w, st, b),
-            (_, Precision::F32) => d3::run_pair(scene, balls, mode, w, st, b),
-            (_, Precision::F64) => d3_f64::run_pair(scene, balls, mode, w, st, b),
+            (2, Precision::F32) => d2::run_pair(setup, timing),
+            (2, Precision::F64) => d2_f64::run_pair(setup, timing),
+            (_, Precision::F32) => d3::run_pair(setup, timing),
+            (_, Precision::F64) => d3_f64::run_pair(setup, timing),
         };
         pair.map(|p| serde_json::to_string(&p))
     } else {
-        let (a, run) = (cli.attribute, (scene.dim(), precision));
+        let a = cli.attribute;
+        let (w, st) = (timing.warmup, timing.steps);
         let solo = match run {
-            (2, Precision::F32) => d2::run_solo(scene, balls, mode, w, st, a),
-            (2, Precision::F64) => d2_f64::run_solo(scene, balls, mode, w, st, a),
-            (_, Precision::F32) => d3::run_solo(scene, balls, mode, w, st, a),
-            (_, Precision::F64) => d3_f64::run_solo(scene, balls, mode, w, st, a),
+            (2, Precision::F32) => d2::run_solo(setup, w, st, a),
+            (2, Precision::F64) => d2_f64::run_solo(setup, w, st, a),
+            (_, Precision::F32) => d3::run_solo(setup, w, st, a),
+            (_, Precision::F64) => d3_f64::run_solo(setup, w, st, a),
         };
         solo.map(|s| serde_json::to_string(&s))
     };
@@ -451,7 +629,7 @@ fn child_main(cli: &Cli) -> ExitCode {
     }
 }
 
-fn machine() -> String {
+pub(crate) fn machine() -> String {
     let cpus = std::thread::available_parallelism().map_or(0, |n| n.get());
     let model = std::fs::read_to_string("/proc/cpuinfo")
         .ok()
@@ -469,6 +647,9 @@ fn main() -> ExitCode {
     NO_CALM.store(cli.no_calm, std::sync::atomic::Ordering::Relaxed);
     if cli.pair || cli.solo {
         return child_main(&cli);
+    }
+    if cli.effects {
+        return effects::run(&cli);
     }
     if cli.rerender {
         let raw = std::fs::read_to_string(cli.out.join("raw.json"))
@@ -515,10 +696,9 @@ fn main() -> ExitCode {
     let mut groups = Vec::new();
     for &precision in &precisions {
         for &scene in &scenes {
-            let sizes: Vec<usize> = if scene.scales() {
-                counts.clone()
-            } else {
-                vec![16]
+            let sizes: Vec<usize> = match scene.fixed_balls() {
+                None => counts.clone(),
+                Some(n) => vec![n],
             };
             for &balls in &sizes {
                 let law_modes: Vec<Mode> = modes
@@ -589,7 +769,10 @@ fn main() -> ExitCode {
         warmup: cli.warmup,
         rounds,
         block: cli.block,
+        small_block: cli.small_block,
+        small_repeats: cli.small_repeats,
         memory_steps: cli.memory_steps,
+        memory_warmup: cli.memory_warmup,
         wall_s: started.elapsed().as_secs_f64(),
     };
     let raw = report::Raw { header, groups };

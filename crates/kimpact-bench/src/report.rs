@@ -44,6 +44,11 @@ pub struct Row {
     pub native_median_us: f64,
     /// Median of this mode over median of native, all rounds pooled.
     pub ratio: f64,
+    /// `median_us − native_median_us`: what the mode adds to a step.
+    pub delta_us: f64,
+    /// Goal 3 of issue 26, for a small scene's law mode: within 1.15x
+    /// native or within 1 µs per step of it, whichever is larger.
+    pub small_goal: Option<bool>,
     /// The same ratio per round: its smallest and largest value, and the
     /// median of the rounds' ratios (on a host whose load changes between
     /// rounds, the pooled ratio can fall outside every round's).
@@ -78,7 +83,7 @@ pub struct Row {
 }
 
 /// The CSV's columns, in order.
-pub const COLUMNS: [&str; 37] = [
+pub const COLUMNS: [&str; 39] = [
     "scene",
     "dim",
     "precision",
@@ -98,6 +103,8 @@ pub const COLUMNS: [&str; 37] = [
     "ratio_min",
     "ratio_max",
     "ratio_median_rounds",
+    "delta_us",
+    "small_goal",
     "allocs_per_step",
     "alloc_bytes_per_step",
     "native_allocs_per_step",
@@ -247,6 +254,9 @@ pub fn rows(group: &Group) -> Vec<Row> {
                 p90_us: quantile(&times, 0.9),
                 native_median_us: native_median,
                 ratio: median / native_median,
+                delta_us: median - native_median,
+                small_goal: (group.scene.small() && mode != Mode::Native && median.is_finite())
+                    .then(|| within_small_goal(median, native_median)),
                 ratio_min: per_round.iter().copied().fold(f64::NAN, f64::min),
                 ratio_max: per_round.iter().copied().fold(f64::NAN, f64::max),
                 ratio_median_rounds: quantile(&per_round, 0.5),
@@ -272,6 +282,12 @@ pub fn rows(group: &Group) -> Vec<Row> {
         .collect()
 }
 
+/// Goal 3 of issue 26: a small scene's step within 1.15x native's or within
+/// 1 µs of it, whichever is larger.
+pub fn within_small_goal(median_us: f64, native_us: f64) -> bool {
+    median_us <= (1.15 * native_us).max(native_us + 1.0)
+}
+
 /// What the table's header says about the run.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Header {
@@ -283,7 +299,16 @@ pub struct Header {
     pub warmup: usize,
     pub rounds: usize,
     pub block: usize,
+    /// Steps per block in the small scenes (each block timed whole).
+    #[serde(default)]
+    pub small_block: usize,
+    /// Episodes per timing run of a small scene.
+    #[serde(default)]
+    pub small_repeats: usize,
     pub memory_steps: usize,
+    /// Warm-up steps of the memory runs (`None`: the timing runs').
+    #[serde(default)]
+    pub memory_warmup: Option<usize>,
     pub wall_s: f64,
 }
 
@@ -338,6 +363,20 @@ pub fn budgets(rows: &[Row]) -> Vec<Verdict> {
                 ratio_budget(&mut out, &format!("cue ball, {}", mode.name()), 1.05, r);
             }
         }
+    }
+    // Goal 3 of issue 26: every law mode of a small scene within 1.15x
+    // native or 1 µs per step of it, whichever is larger.
+    for r in rows.iter().filter(|r| r.small_goal.is_some()) {
+        let ok = r.error.is_none() && r.small_goal == Some(true);
+        out.push(Verdict {
+            budget: format!("small scene, {}: ≤ max(1.15x, +1 µs)", r.mode.name()),
+            config: format!("{} {} {}", r.scene.name(), r.balls, r.precision.name()),
+            measured: format!(
+                "{:.3}x, {:+.2} µs/step ({:.2} against {:.2} µs)",
+                r.ratio, r.delta_us, r.median_us, r.native_median_us
+            ),
+            pass: Some(ok),
+        });
     }
     // The gas's energy in exact mode, f64.
     for r in rows.iter().filter(|r| {
@@ -429,15 +468,31 @@ pub fn budgets(rows: &[Row]) -> Vec<Verdict> {
     out
 }
 
-fn fmt_us(us: f64) -> String {
+/// A time per step for the tables: three significant digits or so.
+pub fn fmt_us(us: f64) -> String {
     if !us.is_finite() {
         "—".to_owned()
     } else if us >= 10_000.0 {
         format!("{:.1} ms", us / 1000.0)
     } else if us >= 1000.0 {
         format!("{:.2} ms", us / 1000.0)
-    } else {
+    } else if us >= 100.0 {
         format!("{us:.0} µs")
+    } else if us >= 10.0 {
+        format!("{us:.1} µs")
+    } else {
+        format!("{us:.2} µs")
+    }
+}
+
+/// A difference of times per step, signed, in µs.
+pub fn fmt_delta_us(us: f64) -> String {
+    if !us.is_finite() {
+        "—".to_owned()
+    } else if us.abs() >= 100.0 {
+        format!("{us:+.0} µs")
+    } else {
+        format!("{us:+.2} µs")
     }
 }
 
@@ -479,15 +534,23 @@ pub fn markdown(h: &Header, rows: &[Row]) -> String {
     let _ = writeln!(s, "- machine: {}", h.machine);
     let _ = writeln!(
         s,
-        "- rapier `parallel`: {}; each timing run is one process stepping native rapier and one mode on two copies of the scene in lockstep: {} warm-up steps each, then {} measured steps each, alternated in blocks of {} (native, mode, native, mode…); {} timing run(s) per mode; peak RSS and the attribution of allocations from a separate process per mode running alone ({} steps after the same warm-up); wall time {:.0} s",
+        "- rapier `parallel`: {}; each timing run is one process stepping native rapier and one mode on two copies of the scene in lockstep: {} warm-up steps each, then {} measured steps each, alternated in blocks of {} (native, mode, native, mode…); {} timing run(s) per mode; peak RSS and the attribution of allocations from a separate process per mode running alone ({} steps after {} warm-up steps); wall time {:.0} s",
         if h.parallel { "on" } else { "off" },
         h.warmup,
         h.steps,
         h.block,
         h.rounds,
         h.memory_steps,
+        h.memory_warmup.unwrap_or(h.warmup),
         h.wall_s
     );
+    if h.small_block > 0 {
+        let _ = writeln!(
+            s,
+            "- small scenes (billiards, restitution3, restitution2, pinball): blocks of {} steps, each timed whole (its time over its steps is one sample), over {} episodes per timing run (both worlds built anew, warmed up and measured each time); Δ/step: the mode's median minus native's; goal 3 of issue 26 (✓/✗ in the notes): within 1.15x native or within 1 µs per step of it, whichever is larger",
+            h.small_block, h.small_repeats
+        );
+    }
     let _ = writeln!(
         s,
         "- time/step: median {} time of one step (native's row: over all its timing runs, which differ from each other on a loaded machine); native, same runs: native's median in this mode's timing runs; ×native: the ratio of the two (with --rounds > 1, in parentheses: the lowest and highest timing run's ratio; after the semicolon, the median of the runs' ratios); allocs/step: heap allocations per measured step, all threads (in parentheses: kimpact's own, that is the share of the memory run's allocations whose stacks lead to kimpact's code, every one classified, times the total); peak RSS: VmHWM of a process running that mode alone; impacts/step: resolved by the law; ΔE/E: energy change (kinetic + potential from the floor) over the measured steps\n",
@@ -499,11 +562,11 @@ pub fn markdown(h: &Header, rows: &[Row]) -> String {
     );
     let _ = writeln!(
         s,
-        "| scene | prec | balls | mode | time/step | native, same runs | ×native | allocs/step (kimpact's) | peak RSS | impacts/step | ΔE/E | notes |"
+        "| scene | prec | balls | mode | time/step | native, same runs | ×native | Δ/step | allocs/step (kimpact's) | peak RSS | impacts/step | ΔE/E | notes |"
     );
     let _ = writeln!(
         s,
-        "|---|---|---:|---|---:|---:|---|---:|---:|---:|---:|---|"
+        "|---|---|---:|---|---:|---:|---|---:|---:|---:|---:|---:|---|"
     );
     for r in rows {
         let mut notes = Vec::new();
@@ -521,6 +584,11 @@ pub fn markdown(h: &Header, rows: &[Row]) -> String {
         }
         if r.skipped > 0 {
             notes.push(format!("{} skipped pairs", r.skipped));
+        }
+        match r.small_goal {
+            Some(true) => notes.push("goal 3 ✓".to_owned()),
+            Some(false) => notes.push("goal 3 ✗".to_owned()),
+            None => {}
         }
         let ratio = if r.mode == Mode::Native {
             "1".to_owned()
@@ -544,7 +612,7 @@ pub fn markdown(h: &Header, rows: &[Row]) -> String {
         };
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {:.0} MiB | {:.2} | {:.1e} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.0} MiB | {:.2} | {:.1e} | {} |",
             r.scene.name(),
             r.precision.name(),
             r.balls,
@@ -556,6 +624,11 @@ pub fn markdown(h: &Header, rows: &[Row]) -> String {
                 fmt_us(r.native_median_us)
             },
             ratio,
+            if r.mode == Mode::Native {
+                String::new()
+            } else {
+                fmt_delta_us(r.delta_us)
+            },
             allocs,
             r.peak_rss_mib,
             r.impacts_per_step,
@@ -633,6 +706,10 @@ pub fn csv(rows: &[Row]) -> String {
             format!("{:.4}", r.ratio_min),
             format!("{:.4}", r.ratio_max),
             format!("{:.4}", r.ratio_median_rounds),
+            format!("{:.4}", r.delta_us),
+            r.small_goal.map_or(String::new(), |ok| {
+                if ok { "pass" } else { "miss" }.to_owned()
+            }),
             format!("{:.3}", r.allocs_per_step),
             format!("{:.1}", r.alloc_bytes_per_step),
             format!("{:.3}", r.native_allocs_per_step),

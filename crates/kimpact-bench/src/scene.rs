@@ -6,12 +6,13 @@
 use std::time::Instant;
 
 use k::math::{DIM, Real, Vector};
+use k::rapier::math::AngVector;
 use k::rapier::prelude::*;
 use k::{Kimpact, Law, LawParams, Mode};
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
 
-use crate::{Measure, Pair, Scene, Solo, alloc, memory};
+use crate::{AboutZ, Measure, Pair, Scene, Setup, Solo, Timing, alloc, memory};
 
 /// A vector with components uniform in `[-speed, speed)`, from the scene's
 /// seeded generator (the same sequence in every mode).
@@ -56,8 +57,32 @@ pub struct Bench {
     world: PhysicsWorld,
     kimpact: Kimpact,
     balls: Vec<RigidBodyHandle>,
-    /// Inner half-extents of the enclosing box.
-    half: Vector,
+    /// The region the balls stay in (a ball further than `slack` out of it
+    /// has escaped).
+    lo: Vector,
+    hi: Vector,
+    slack: Real,
+    /// The height potential energy is measured from.
+    floor: Real,
+    /// Kinematic bodies driven by the scene before each step.
+    drives: Vec<Drive>,
+    /// Simulated time, for the drives.
+    time: Real,
+    /// Whether the user reads kimpact's impact events after each step (the
+    /// effects table's "events").
+    read_events: bool,
+    /// What reading them found (kept so that the read is not optimized out).
+    events_read: Real,
+}
+
+/// A kinematic body swung about its origin at a periodic angular velocity
+/// `sign · amplitude · (2π/period) · sin(2π t/period)`: from its starting
+/// angle, it turns by `sign · amplitude · (1 − cos(2π t/period))`.
+struct Drive {
+    body: RigidBodyHandle,
+    amplitude: Real,
+    period: Real,
+    sign: Real,
 }
 
 impl Bench {
@@ -81,7 +106,14 @@ impl Bench {
             )
             .expect("the default configuration with calm_neighbourhoods set is valid"),
             balls: Vec::new(),
-            half: Vector::ZERO,
+            lo: Vector::ZERO,
+            hi: Vector::ZERO,
+            slack: 1.0,
+            floor: 0.0,
+            drives: Vec::new(),
+            time: 0.0,
+            read_events: false,
+            events_read: 0.0,
         }
     }
 
@@ -93,14 +125,30 @@ impl Bench {
         mass: Real,
         material: Material,
     ) -> RigidBodyHandle {
+        self.ball_with(body, radius, mass, material, None)
+    }
+
+    /// A marked ball, with its own law parameters when `law` is given
+    /// (`Kimpact::mark_with`).
+    fn ball_with(
+        &mut self,
+        body: RigidBodyBuilder,
+        radius: Real,
+        mass: Real,
+        material: Material,
+        law: Option<k::Material>,
+    ) -> RigidBodyHandle {
         let collider = ColliderBuilder::ball(radius)
             .mass(mass)
             .friction(material.friction)
             .restitution(material.restitution);
         let (b, c) = self.world.insert(body, collider);
-        self.kimpact
-            .mark(&self.world.colliders, c)
-            .expect("inserted just above");
+        let colliders = &self.world.colliders;
+        match law {
+            Some(law) => self.kimpact.mark_with(colliders, c, law),
+            None => self.kimpact.mark(colliders, c),
+        }
+        .expect("inserted just above");
         self.balls.push(b);
         b
     }
@@ -108,7 +156,7 @@ impl Bench {
     /// A closed box of inner half-extents `half` centred at the origin, made
     /// of fixed, unmarked walls (they meet the law as fixed partners).
     fn closed_box(&mut self, half: Vector, thickness: Real, material: Material) {
-        self.half = half;
+        (self.lo, self.hi, self.floor) = (-half, half, -half[1]);
         let t = thickness;
         for axis in 0..DIM {
             for sign in [-1.0, 1.0] {
@@ -124,6 +172,16 @@ impl Bench {
                     .restitution(material.restitution);
                 self.world.insert_collider(collider, Some(b));
             }
+        }
+    }
+
+    /// Build what `setup` asks for: a configuration of the effects table,
+    /// or its scene; `None` when the scene is not of this module's
+    /// dimension.
+    pub fn setup(setup: Setup) -> Option<Self> {
+        match setup.effect {
+            Some(effect) => Self::effect(effect, setup.scene, setup.balls, setup.mode),
+            None => Self::build(setup.scene, setup.balls, setup.mode),
         }
     }
 
@@ -258,19 +316,38 @@ impl Bench {
                 b.ball(body, r, 10.0, material);
                 b
             }
+            Scene::Restitution3 | Scene::Restitution2 => Self::restitution(mode),
+            Scene::Pinball => Self::pinball(mode, &mut rng),
         };
         Some(bench)
     }
 
-    /// One step through kimpact (`Mode::Native` too: identical code path).
+    /// One step through kimpact (`Mode::Native` too: identical code path),
+    /// after driving the kinematic bodies; with `read_events`, the user's
+    /// read of kimpact's impact events after it.
     pub fn step(&mut self) {
+        let tau = std::f64::consts::TAU as Real;
+        for d in &self.drives {
+            let w = d.amplitude * tau / d.period * (tau * self.time / d.period).sin();
+            if let Some(rb) = self.world.bodies.get_mut(d.body) {
+                rb.set_angvel(AngVector::about_z(d.sign * w), true);
+            }
+        }
         self.kimpact.step_world(&mut self.world, &(), &());
+        self.time += self.world.integration_parameters.dt;
+        if self.read_events {
+            let mut sum = 0.0;
+            for e in self.kimpact.events() {
+                sum += e.impulse + e.dissipated;
+            }
+            self.events_read += std::hint::black_box(sum);
+        }
     }
 
-    /// Kinetic plus potential energy (from the floor of the box), f64.
+    /// Kinetic plus potential energy (from the floor), f64.
     pub fn energy(&self) -> f64 {
         let g = f64::from(self.world.gravity.length());
-        let floor = f64::from(self.half[1]);
+        let floor = -f64::from(self.floor);
         self.world
             .bodies
             .iter()
@@ -296,12 +373,14 @@ impl Bench {
 
     /// Balls outside the box (by more than a ball radius of slack).
     pub fn escaped(&self) -> usize {
-        let slack = 1.0;
+        let slack = self.slack;
         self.balls
             .iter()
             .filter(|&&h| {
                 let p = self.world.bodies[h].translation();
-                (0..DIM).any(|a| p[a].is_nan() || p[a].abs() > self.half[a] + slack)
+                (0..DIM).any(|a| {
+                    p[a].is_nan() || p[a] < self.lo[a] - slack || p[a] > self.hi[a] + slack
+                })
             })
             .count()
     }
@@ -316,106 +395,110 @@ impl Bench {
     }
 }
 
-/// Time, CPU time and allocations of one measured step, appended to `m`.
-fn measured_step(bench: &mut Bench, m: &mut Measure) {
-    let (count0, bytes0) = alloc::snapshot();
-    let t = Instant::now();
-    let c = memory::process_cpu_us();
-    bench.step();
-    let cpu = memory::process_cpu_us() - c;
-    let wall = t.elapsed().as_secs_f64() * 1e6;
-    let (count1, bytes1) = alloc::snapshot();
-    m.times_us.push(wall);
-    m.cpu_us.push(cpu);
-    m.allocs += count1 - count0;
-    m.alloc_bytes += bytes1 - bytes0;
+/// Time, CPU time and allocations of `n` measured steps, appended to `m`:
+/// one sample per step, or with `whole` one sample for the block (its time
+/// over `n`), so that a step of a few microseconds is not lost in the
+/// clock's own cost.
+fn measured_block(bench: &mut Bench, n: usize, whole: bool, m: &mut Measure) {
+    let per_sample = if whole { n } else { 1 };
+    for _ in 0..n / per_sample {
+        let (count0, bytes0) = alloc::snapshot();
+        let t = Instant::now();
+        let c = memory::process_cpu_us();
+        for _ in 0..per_sample {
+            bench.step();
+        }
+        let cpu = memory::process_cpu_us() - c;
+        let wall = t.elapsed().as_secs_f64() * 1e6;
+        let (count1, bytes1) = alloc::snapshot();
+        m.times_us.push(wall / per_sample as f64);
+        m.cpu_us.push(cpu / per_sample as f64);
+        m.allocs += count1 - count0;
+        m.alloc_bytes += bytes1 - bytes0;
+    }
 }
 
-/// An empty measure for `steps` steps, with the state before them.
-fn start_measure(bench: &Bench, steps: usize) -> (Measure, k::Stats) {
-    let m = Measure {
-        steps,
-        times_us: Vec::with_capacity(steps),
-        cpu_us: Vec::with_capacity(steps),
-        energy_start: bench.energy(),
-        ..Measure::default()
-    };
-    (m, bench.kimpact.stats())
+/// Record the state before an episode's measured steps.
+fn start_episode(bench: &Bench, m: &mut Measure, first: bool) -> k::Stats {
+    if first {
+        m.energy_start = bench.energy();
+    }
+    bench.kimpact.stats()
 }
 
-/// Fill in what the measured steps did to the scene.
-fn finish_measure(bench: &Bench, m: &mut Measure, stats0: k::Stats) {
+/// Add what an episode's measured steps did to the scene.
+fn finish_episode(bench: &Bench, m: &mut Measure, stats0: k::Stats, steps: usize) {
     let stats1 = bench.kimpact.stats();
-    m.impacts = stats1.impacts - stats0.impacts;
-    m.cap_hits = stats1.event_cap_hits - stats0.event_cap_hits;
-    m.skipped = stats1.skipped_non_finite - stats0.skipped_non_finite;
+    m.steps += steps;
+    m.impacts += stats1.impacts - stats0.impacts;
+    m.cap_hits += stats1.event_cap_hits - stats0.event_cap_hits;
+    m.skipped += stats1.skipped_non_finite - stats0.skipped_non_finite;
     m.energy_end = bench.energy();
-    m.non_finite = bench.non_finite();
-    m.escaped = bench.escaped();
+    m.non_finite = m.non_finite.max(bench.non_finite());
+    m.escaped = m.escaped.max(bench.escaped());
     m.awake_end = bench.awake();
 }
 
-/// Timing: native rapier and `mode` on two copies of the scene in this
-/// process, in lockstep: warm-up, then `steps` measured steps each,
-/// alternated in blocks of `block` (native's block, then the mode's), so
-/// that whatever else the machine does hits both alike.
-pub fn run_pair(
-    scene: Scene,
-    balls: usize,
-    mode: Mode,
-    warmup: usize,
-    steps: usize,
-    block: usize,
-) -> Option<Pair> {
-    let mut native = Bench::build(scene, balls, Mode::Native)?;
-    let mut law = Bench::build(scene, balls, mode)?;
-    for _ in 0..warmup {
-        native.step();
-        law.step();
-    }
-    let (mut mn, sn) = start_measure(&native, steps);
-    let (mut ml, sl) = start_measure(&law, steps);
-    let block = block.max(1);
-    let mut done = 0;
-    while done < steps {
-        let n = block.min(steps - done);
-        for _ in 0..n {
-            measured_step(&mut native, &mut mn);
+/// Timing: native rapier and the mode on two copies of what `setup` builds,
+/// in this process, in lockstep: per episode, both built, warmed up, then
+/// `steps` measured steps each, alternated in blocks (native's block, then
+/// the mode's), so that whatever else the machine does hits both alike.
+pub fn run_pair(setup: Setup, timing: Timing) -> Option<Pair> {
+    let samples = timing.steps * timing.repeats.max(1);
+    let new_measure = || Measure {
+        times_us: Vec::with_capacity(samples),
+        cpu_us: Vec::with_capacity(samples),
+        ..Measure::default()
+    };
+    let (mut mn, mut ml) = (new_measure(), new_measure());
+    let block = timing.block.max(1);
+    let mut balls = 0;
+    for episode in 0..timing.repeats.max(1) {
+        let mut native = Bench::setup(Setup {
+            mode: Mode::Native,
+            ..setup
+        })?;
+        let mut law = Bench::setup(setup)?;
+        for _ in 0..timing.warmup {
+            native.step();
+            law.step();
         }
-        for _ in 0..n {
-            measured_step(&mut law, &mut ml);
+        let sn = start_episode(&native, &mut mn, episode == 0);
+        let sl = start_episode(&law, &mut ml, episode == 0);
+        let mut done = 0;
+        while done < timing.steps {
+            let n = block.min(timing.steps - done);
+            measured_block(&mut native, n, timing.time_blocks, &mut mn);
+            measured_block(&mut law, n, timing.time_blocks, &mut ml);
+            done += n;
         }
-        done += n;
+        finish_episode(&native, &mut mn, sn, timing.steps);
+        finish_episode(&law, &mut ml, sl, timing.steps);
+        balls = law.balls.len();
     }
-    finish_measure(&native, &mut mn, sn);
-    finish_measure(&law, &mut ml, sl);
     Some(Pair {
-        scene,
-        balls: law.balls.len(),
-        mode,
+        scene: setup.scene,
+        balls,
+        mode: setup.mode,
         precision: k::math::PRECISION,
         parallel: cfg!(feature = "parallel"),
-        warmup,
+        warmup: timing.warmup,
         block,
+        time_blocks: timing.time_blocks,
+        repeats: timing.repeats.max(1),
+        effect: setup.effect,
         native: mn,
         law: ml,
     })
 }
 
-/// Memory and attribution: `mode` alone in this process (untimed): warm-up
-/// and `steps` steps, then the peak RSS. With `attribute`, the same again
-/// (serial rapier is deterministic), classifying every allocation of the
-/// measured steps as kimpact's or rapier's from its stack (after the RSS is
-/// read: symbolizing takes memory).
-pub fn run_solo(
-    scene: Scene,
-    balls: usize,
-    mode: Mode,
-    warmup: usize,
-    steps: usize,
-    attribute: bool,
-) -> Option<Solo> {
-    let mut bench = Bench::build(scene, balls, mode)?;
+/// Memory and attribution: the mode alone in this process (untimed):
+/// warm-up and `steps` steps, then the peak RSS. With `attribute`, the same
+/// again (serial rapier is deterministic), classifying every allocation of
+/// the measured steps as kimpact's or rapier's from its stack (after the
+/// RSS is read: symbolizing takes memory).
+pub fn run_solo(setup: Setup, warmup: usize, steps: usize, attribute: bool) -> Option<Solo> {
+    let mut bench = Bench::setup(setup)?;
     for _ in 0..warmup {
         bench.step();
     }
@@ -426,11 +509,12 @@ pub fn run_solo(
     let (count1, _) = alloc::snapshot();
     let peak_rss_kib = memory::peak_rss_kib();
     let mut solo = Solo {
-        scene,
+        scene: setup.scene,
         balls: bench.balls.len(),
-        mode,
+        mode: setup.mode,
         precision: k::math::PRECISION,
         steps,
+        effect: setup.effect,
         allocs: count1 - count0,
         peak_rss_kib,
         attributed: false,
@@ -441,7 +525,7 @@ pub fn run_solo(
     };
     if attribute {
         drop(bench);
-        let mut again = Bench::build(scene, balls, mode)?;
+        let mut again = Bench::setup(setup)?;
         for _ in 0..warmup {
             again.step();
         }
