@@ -233,7 +233,7 @@ impl Calm {
                 continue;
             };
             let contact = contact_box(co, f);
-            let (aabb, velocity) = match reach(contact, com, path, turn, f) {
+            let (aabb, velocity) = match reach(co, contact, com, path, turn, f) {
                 Some(aabb) => (aabb, velocity),
                 None => {
                     // Non-finite: never calm, and its neighbours neither
@@ -414,11 +414,18 @@ fn finite(b: Aabb) -> Option<Aabb> {
     (b.mins.is_finite() && b.maxs.is_finite()).then_some(b)
 }
 
-/// Everywhere a collider with contact box `b` can reach this step: the box
-/// grown by how far its farthest point turns (`turn` radians about `com`),
-/// and swept along `path * dt`. `None` if not finite.
-fn reach(b: Aabb, com: Vector, path: Vector, turn: Real, f: &Frame) -> Option<Aabb> {
-    let arm = (b.center() - com).length() + 0.5 * (b.maxs - b.mins).length();
+/// Everywhere collider `co` with contact box `b` can reach this step: the
+/// box grown by how far its farthest point turns (`turn` radians about
+/// `com`), and swept along `path * dt`. A ball is the same shape however it
+/// turns: only its centre moves, so a spinning ball centred on `com` reaches
+/// no farther than a still one. `None` if not finite.
+fn reach(co: &Collider, b: Aabb, com: Vector, path: Vector, turn: Real, f: &Frame) -> Option<Aabb> {
+    let centre = (b.center() - com).length();
+    let arm = if co.shape().as_ball().is_some() {
+        centre
+    } else {
+        centre + 0.5 * (b.maxs - b.mins).length()
+    };
     let b = b.loosened(turn.min(2.0) * arm);
     let shift = path * f.dt;
     let moved = Aabb::new(b.mins + shift, b.maxs + shift);
@@ -444,7 +451,7 @@ fn partner(f: &Frame, index: u32) -> Option<(Aabb, Vector, u32)> {
     };
     let path = path_velocity(rb, f.gravity * f.dt);
     let turn = angular_speed(rb) * f.dt;
-    match reach(contact, rb.center_of_mass(), path, turn, f) {
+    match reach(co, contact, rb.center_of_mass(), path, turn, f) {
         Some(b) => Some((b, rb.linvel(), u32::MAX)),
         None => finite(contact).map(|b| (b, Vector::splat(Real::NAN), u32::MAX)),
     }
