@@ -200,22 +200,39 @@ fn settings_dominance_is_ignored_by_exact_and_impulse() {
     }
 }
 
-/// Row locked translations: Restitution mode honours them (rapier's solver
-/// bounces the ball off the locked one as off a wall, with the law's
-/// restitution 1); Exact and Impulse do not (known gap, pinned: the law
-/// sets the locked ball moving along its locked axis, and it moves).
+/// Row locked translations: a ball whose every translation is locked is an
+/// immovable partner for the law, marked or not, in every law mode (the
+/// other bounces off it as off a wall, with the law's wall d̃, and it stays
+/// where it is); a ball with only some translations locked leaves its
+/// pairs to rapier (here restitution 0: both balls end at 0.5 m/s, no law
+/// impact).
 #[test]
-fn settings_locked_translations_hold_only_in_restitution_mode() {
+fn settings_locked_translations() {
+    let d = 0.02;
+    let (v_a, _) = law_along_x(d, Some(1.0), Vector::X, None, Vector::ZERO);
     for mode in LAW_MODES {
-        let (w, a, b) = settings_pair(mode, 0.0, 0.5, |w, [_, b], _| {
-            w.world.bodies[b].lock_translations(true, true);
-        });
-        if mode == Mode::Restitution {
-            assert!(rel_err(w.vel(a), -Vector::X) < tol(), "{mode}: {:?}", w.vel(a));
-            assert_eq!(w.pos(b), Vector::X * 1.05, "{mode}: the locked ball stays");
-        } else {
-            assert!(w.pos(b)[0] > 1.4, "{mode}: {:?}", w.pos(b));
+        for marked in [true, false] {
+            let (w, a, b) = settings_pair(mode, d, 0.5, |w, [_, b], [_, cb]| {
+                w.world.bodies[b].lock_translations(true, true);
+                if !marked {
+                    w.kimpact.unmark(cb);
+                }
+            });
+            let case = format!("{mode}, all locked, marked {marked}");
+            assert!(rel_err(w.vel(a), v_a) < tol(), "{case}: {:?} vs {v_a:?}", w.vel(a));
+            assert_eq!(w.pos(b), Vector::X * 1.05, "{case}: the locked ball stays");
+            assert_eq!(w.kimpact.stats().impacts, 1, "{case}");
         }
+        let (w, a, b) = settings_pair(mode, d, 0.5, |w, [_, b], cs| {
+            w.world.bodies[b].set_locked_axes(LockedAxes::TRANSLATION_LOCKED_Y, true);
+            for c in cs {
+                w.world.colliders[c].set_restitution(0.0);
+            }
+        });
+        let half = Vector::X * 0.5;
+        assert!(rel_err(w.vel(a), half) < 1e-3, "{mode}, y locked: {:?}", w.vel(a));
+        assert!(rel_err(w.vel(b), half) < 1e-3, "{mode}, y locked: {:?}", w.vel(b));
+        assert_eq!(w.kimpact.stats().impacts, 0, "{mode}, y locked");
     }
 }
 

@@ -83,8 +83,13 @@ impl PhysicsHooks for StepHooks<'_> {
         let (dt, rest_speed, margin) = (frame.dt, frame.rest_speed, frame.gravity_speed);
         let (bodies, colliders) = (context.bodies, context.colliders);
         let (rb1, rb2) = (context.rigid_body1, context.rigid_body2);
-        let b1 = law_body(bodies, context.rigid_body1);
-        let b2 = law_body(bodies, context.rigid_body2);
+        // A body with some translations locked: the pair is rapier's.
+        let (Some(b1), Some(b2)) = (
+            law_body(bodies, context.rigid_body1),
+            law_body(bodies, context.rigid_body2),
+        ) else {
+            return;
+        };
         let Some(rigid) = context.rigid_mut() else {
             return;
         };

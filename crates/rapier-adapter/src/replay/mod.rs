@@ -684,23 +684,25 @@ impl Replay {
                 );
                 break;
             }
-            let mut mass = |n: usize, c: ColliderHandle| -> Mass<Real> {
+            let mut mass = |n: usize, c: ColliderHandle| -> Option<Mass<Real>> {
                 let node = &mut self.nodes[n];
                 if !node.dynamic {
-                    return Mass::Infinite;
+                    return Some(Mass::Infinite);
                 }
                 if node.mass.is_nan() {
                     let parent = colliders.get(c).and_then(|co| co.parent());
-                    match law_body(bodies, parent).mass {
+                    match law_body(bodies, parent)?.mass {
                         Mass::Finite(m) => node.mass = m,
                         // Not dynamic after all: as before, not cached.
-                        Mass::Infinite => return Mass::Infinite,
+                        Mass::Infinite => return Some(Mass::Infinite),
                     }
                 }
-                Mass::Finite(node.mass)
+                Some(Mass::Finite(node.mass))
             };
-            let ma = mass(pair.a, pair.c1);
-            let mb = mass(pair.b, pair.c2);
+            // A body with some translations locked: the pair is rapier's.
+            let (Some(ma), Some(mb)) = (mass(pair.a, pair.c1), mass(pair.b, pair.c2)) else {
+                continue;
+            };
             let (na, nb) = (self.nodes[pair.a], self.nodes[pair.b]);
             let la = LawBody {
                 mass: ma,
