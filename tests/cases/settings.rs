@@ -179,24 +179,39 @@ fn settings_kinematic_bodies_are_immovable_partners() {
     }
 }
 
-/// Row dominance: Exact and Impulse ignore it (the law takes both masses:
-/// equal masses exchange their velocities); Restitution mode leaves the
-/// pair to rapier's solver, which honours it (the dominant ball keeps its
-/// velocity, no law impact).
+/// Row dominance: in a pair of bodies of different dominance groups the
+/// dominant one is an immovable partner for the law. A striker meeting a
+/// dominant ball at rest bounces off it as off a wall (the law's wall d̃),
+/// which stays, in every law mode. A dominant striker keeps its velocity;
+/// in Impulse and Exact mode the struck ball leaves as off a moving wall;
+/// in Restitution mode rapier's solver, which takes a dominant dynamic
+/// body as at rest, gives it no velocity (it is only pushed aside, as in
+/// `Mode::Native`), and no law impact is counted.
 #[test]
-fn settings_dominance_is_ignored_by_exact_and_impulse() {
-    let (va, vb) = law_along_x(0.0, Some(1.0), Vector::X, Some(1.0), Vector::ZERO);
+fn settings_dominance_makes_the_dominant_body_immovable() {
+    let d = 0.02;
+    let (_, struck) = law_along_x(d, None, Vector::X, Some(1.0), Vector::ZERO);
+    let (striker, _) = law_along_x(d, Some(1.0), Vector::X, None, Vector::ZERO);
     for mode in LAW_MODES {
-        let (w, a, b) = settings_pair(mode, 0.0, 0.5, |w, [a, _], _| {
+        let (w, a, b) = settings_pair(mode, d, 0.5, |w, [a, _], _| {
             w.world.bodies[a].set_dominance_group(1);
         });
+        assert_eq!(w.vel(a), Vector::X, "{mode}: the dominant ball keeps its velocity");
         if mode == Mode::Restitution {
-            assert_eq!(w.vel(a), Vector::X, "{mode}: the dominant ball keeps its velocity");
+            assert_eq!(w.vel(b), Vector::ZERO, "{mode}: rapier's solver");
+            assert!(w.pos(b)[0] > 1.1, "{mode}: pushed aside: {:?}", w.pos(b));
             assert_eq!(w.kimpact.stats().impacts, 0, "{mode}");
         } else {
-            let err = rel_err(w.vel(a), va).max(rel_err(w.vel(b), vb));
-            assert!(err < tol(), "{mode}: {:?} {:?}", w.vel(a), w.vel(b));
+            assert!(rel_err(w.vel(b), struck) < tol(), "{mode}: {:?} vs {struck:?}", w.vel(b));
+            assert_eq!(w.kimpact.stats().impacts, 1, "{mode}");
         }
+        let (w, a, b) = settings_pair(mode, d, 0.5, |w, [_, b], _| {
+            w.world.bodies[b].set_dominance_group(1);
+        });
+        assert!(rel_err(w.vel(a), striker) < tol(), "{mode}: {:?} vs {striker:?}", w.vel(a));
+        assert_eq!(w.vel(b), Vector::ZERO, "{mode}: the dominant ball stays");
+        assert_eq!(w.pos(b), Vector::X * 1.05, "{mode}: the dominant ball stays");
+        assert_eq!(w.kimpact.stats().impacts, 1, "{mode}");
     }
 }
 

@@ -77,6 +77,40 @@ pub(crate) fn law_body(bodies: &RigidBodySet, parent: Option<RigidBodyHandle>) -
     })
 }
 
+/// The law's bodies `b1` and `b2` of a pair (of bodies `p1` and `p2`) with
+/// rapier's dominance groups: when both are finite and the groups differ,
+/// the dominant body is immovable to the other, as rapier's solver takes
+/// it.
+pub(crate) fn dominated(
+    bodies: &RigidBodySet,
+    (p1, b1): (Option<RigidBodyHandle>, LawBody),
+    (p2, b2): (Option<RigidBodyHandle>, LawBody),
+) -> (LawBody, LawBody) {
+    if !(matches!(b1.mass, Mass::Finite(_)) && matches!(b2.mass, Mass::Finite(_))) {
+        return (b1, b2);
+    }
+    let group = |p: Option<RigidBodyHandle>| {
+        p.and_then(|h| bodies.get(h))
+            .map_or(0, |rb| rb.dominance_group())
+    };
+    let (g1, g2) = (group(p1), group(p2));
+    (dominate(b1, g1, g2), dominate(b2, g2, g1))
+}
+
+/// `body`, of dominance group `group`, against a partner of group
+/// `other`: immovable when it dominates the partner.
+#[inline]
+pub(crate) fn dominate(body: LawBody, group: i8, other: i8) -> LawBody {
+    if group > other {
+        LawBody {
+            mass: Mass::Infinite,
+            ..body
+        }
+    } else {
+        body
+    }
+}
+
 /// Whether every translation of `rb` is locked (rapier's solver and
 /// gravity never move it: the law takes it as immovable, see
 /// [`law_body`]).

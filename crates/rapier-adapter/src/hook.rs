@@ -4,7 +4,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use kimpact::Law;
 
-use crate::body_view::{LawBody, law_body, path_velocity};
+use crate::body_view::{LawBody, dominated, law_body, path_velocity};
 use crate::candidates::{Candidate, Candidates};
 use crate::frame::StepFrame;
 use crate::marks::Marks;
@@ -90,6 +90,7 @@ impl PhysicsHooks for StepHooks<'_> {
         ) else {
             return;
         };
+        let (b1, b2) = dominated(bodies, (rb1, b1), (rb2, b2));
         let Some(rigid) = context.rigid_mut() else {
             return;
         };

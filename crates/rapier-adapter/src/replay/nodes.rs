@@ -124,6 +124,7 @@ impl Replay {
                     swept: None,
                     sweep_due: None,
                     mass: Real::NAN,
+                    dominance: 0,
                 }
             }
             Some(rb) if moves => {
@@ -163,6 +164,7 @@ impl Replay {
                     swept: None,
                     sweep_due: None,
                     mass: Real::NAN,
+                    dominance: 0,
                 }
             }
             Some(rb) => {
@@ -185,6 +187,7 @@ impl Replay {
                     swept: None,
                     sweep_due: None,
                     mass: Real::NAN,
+                    dominance: 0,
                 }
             }
             None => Node {
@@ -202,6 +205,7 @@ impl Replay {
                 swept: None,
                 sweep_due: None,
                 mass: Real::NAN,
+                dominance: 0,
             },
         };
         let i = self.nodes.len();
