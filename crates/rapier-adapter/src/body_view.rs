@@ -35,14 +35,37 @@ impl LawBody {
     }
 }
 
+/// The translation axes of this dimension, as rapier's locked-axes flags.
+#[cfg(feature = "dim2")]
+const TRANSLATIONS: LockedAxes =
+    LockedAxes::TRANSLATION_LOCKED_X.union(LockedAxes::TRANSLATION_LOCKED_Y);
+/// The translation axes of this dimension, as rapier's locked-axes flags.
+#[cfg(feature = "dim3")]
+const TRANSLATIONS: LockedAxes = LockedAxes::TRANSLATION_LOCKED;
+
 /// The body of a collider as the law sees it: a dynamic body with its mass
-/// and velocity, any other (or none) immovable.
-pub(crate) fn law_body(bodies: &RigidBodySet, parent: Option<RigidBodyHandle>) -> LawBody {
-    match parent.and_then(|h| bodies.get(h)) {
-        Some(rb) if rb.is_dynamic() => LawBody {
-            mass: Mass::Finite(rb.mass()),
-            velocity: rb.linvel(),
-        },
+/// and velocity, any other (or none) immovable. A dynamic body whose every
+/// translation is locked is immovable too (rapier's solver never moves it);
+/// one with some translations locked and others free is `None`: the law,
+/// which takes one mass for every direction, leaves its pairs to rapier.
+pub(crate) fn law_body(bodies: &RigidBodySet, parent: Option<RigidBodyHandle>) -> Option<LawBody> {
+    Some(match parent.and_then(|h| bodies.get(h)) {
+        Some(rb) if rb.is_dynamic() => {
+            let locked = rb.locked_axes() & TRANSLATIONS;
+            if locked.is_empty() {
+                LawBody {
+                    mass: Mass::Finite(rb.mass()),
+                    velocity: rb.linvel(),
+                }
+            } else if locked == TRANSLATIONS {
+                LawBody {
+                    mass: Mass::Infinite,
+                    velocity: rb.linvel(),
+                }
+            } else {
+                return None;
+            }
+        }
         Some(rb) => LawBody {
             mass: Mass::Infinite,
             velocity: rb.linvel(),
@@ -51,14 +74,57 @@ pub(crate) fn law_body(bodies: &RigidBodySet, parent: Option<RigidBodyHandle>) -
             mass: Mass::Infinite,
             velocity: Vector::ZERO,
         },
+    })
+}
+
+/// The law's bodies `b1` and `b2` of a pair (of bodies `p1` and `p2`) with
+/// rapier's dominance groups: when both are finite and the groups differ,
+/// the dominant body is immovable to the other, as rapier's solver takes
+/// it.
+pub(crate) fn dominated(
+    bodies: &RigidBodySet,
+    (p1, b1): (Option<RigidBodyHandle>, LawBody),
+    (p2, b2): (Option<RigidBodyHandle>, LawBody),
+) -> (LawBody, LawBody) {
+    if !(matches!(b1.mass, Mass::Finite(_)) && matches!(b2.mass, Mass::Finite(_))) {
+        return (b1, b2);
     }
+    let group = |p: Option<RigidBodyHandle>| {
+        p.and_then(|h| bodies.get(h))
+            .map_or(0, |rb| rb.dominance_group())
+    };
+    let (g1, g2) = (group(p1), group(p2));
+    (dominate(b1, g1, g2), dominate(b2, g2, g1))
+}
+
+/// `body`, of dominance group `group`, against a partner of group
+/// `other`: immovable when it dominates the partner.
+#[inline]
+pub(crate) fn dominate(body: LawBody, group: i8, other: i8) -> LawBody {
+    if group > other {
+        LawBody {
+            mass: Mass::Infinite,
+            ..body
+        }
+    } else {
+        body
+    }
+}
+
+/// Whether every translation of `rb` is locked (rapier's solver and
+/// gravity never move it: the law takes it as immovable, see
+/// [`law_body`]).
+#[inline]
+pub(crate) fn translations_locked(rb: &RigidBody) -> bool {
+    rb.locked_axes().contains(TRANSLATIONS)
 }
 
 /// The velocity body `rb` moves along this step, on the straight path
 /// rapier integrates: its velocity plus gravity's `gravity_dt` (scaled by
-/// its gravity scale) for a dynamic body, its velocity for another.
+/// its gravity scale) for a dynamic body whose translations are not all
+/// locked, its velocity for another.
 pub(crate) fn path_velocity(rb: &RigidBody, gravity_dt: Vector) -> Vector {
-    if rb.is_dynamic() {
+    if rb.is_dynamic() && !translations_locked(rb) {
         rb.linvel() + gravity_dt * rb.gravity_scale()
     } else {
         rb.linvel()

@@ -50,7 +50,7 @@
 
 use std::cmp::Ordering;
 
-use crate::body_view::path_velocity;
+use crate::body_view::{path_velocity, translations_locked};
 use crate::leaves::for_each_leaf;
 use crate::marks::Marks;
 use crate::math::{Real, Vector};
@@ -440,8 +440,8 @@ fn reach(co: &Collider, b: Aabb, com: Vector, path: Vector, turn: Real, f: &Fram
 fn partner(f: &Frame, index: u32) -> Option<(Aabb, Vector, u32)> {
     let (co, ch) = f.colliders.get_unknown_gen(index)?;
     let rb = co.parent().and_then(|h| f.bodies.get(h));
-    let governed =
-        f.marks.contains(ch) || (f.fixed_partners && rb.is_none_or(|rb| !rb.is_dynamic()));
+    let governed = f.marks.contains(ch)
+        || (f.fixed_partners && rb.is_none_or(|rb| !rb.is_dynamic() || translations_locked(rb)));
     if !governed {
         return None;
     }

@@ -4,7 +4,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use kimpact::Law;
 
-use crate::body_view::{LawBody, law_body, path_velocity};
+use crate::body_view::{LawBody, dominated, law_body, path_velocity};
 use crate::candidates::{Candidate, Candidates};
 use crate::frame::StepFrame;
 use crate::marks::Marks;
@@ -83,8 +83,14 @@ impl PhysicsHooks for StepHooks<'_> {
         let (dt, rest_speed, margin) = (frame.dt, frame.rest_speed, frame.gravity_speed);
         let (bodies, colliders) = (context.bodies, context.colliders);
         let (rb1, rb2) = (context.rigid_body1, context.rigid_body2);
-        let b1 = law_body(bodies, context.rigid_body1);
-        let b2 = law_body(bodies, context.rigid_body2);
+        // A body with some translations locked: the pair is rapier's.
+        let (Some(b1), Some(b2)) = (
+            law_body(bodies, context.rigid_body1),
+            law_body(bodies, context.rigid_body2),
+        ) else {
+            return;
+        };
+        let (b1, b2) = dominated(bodies, (rb1, b1), (rb2, b2));
         let Some(rigid) = context.rigid_mut() else {
             return;
         };

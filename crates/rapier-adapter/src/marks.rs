@@ -2,6 +2,7 @@
 
 use kimpact::Law;
 
+use crate::body_view::translations_locked;
 use crate::material::{Material, pair_law};
 use crate::math::Real;
 use crate::rapier::prelude::*;
@@ -132,7 +133,8 @@ impl Marks {
     }
 
     /// Whether the law governs the pair: both marked, or one marked and the
-    /// other immovable (when `fixed_partners`); and every marked collider of
+    /// other immovable (fixed, kinematic, or dynamic with every translation
+    /// locked; when `fixed_partners`); and every marked collider of
     /// a dynamic body in it a point collider (the pairs of any other are
     /// rapier's, as if it were not marked).
     pub(crate) fn governs(
@@ -159,7 +161,7 @@ impl Marks {
         let other = if m1 { c2 } else { c1 };
         let parent = colliders.get(other).and_then(|c| c.parent());
         match parent.and_then(|h| bodies.get(h)) {
-            Some(rb) => !rb.is_dynamic(),
+            Some(rb) => !rb.is_dynamic() || translations_locked(rb),
             None => true,
         }
     }

@@ -60,6 +60,10 @@ pub(crate) struct Prepare {
     pub starts: Starts,
     /// Calm neighbourhoods (`Config::calm_neighbourhoods`).
     calm: Calm,
+    /// This step's `Config::fixed_partners`: whether a moving kinematic
+    /// body's colliders are flagged (see [`Prepare::flag`]).
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    partners: bool,
 }
 
 impl Prepare {
@@ -85,6 +89,7 @@ impl Prepare {
             ..
         } = *input;
         let rest_speed = input.frame.rest_speed;
+        self.partners = input.fixed_partners;
         let mut calm_bodies = 0;
         self.epoch = self.epoch.wrapping_add(1).max(1);
         std::mem::swap(&mut self.previous, &mut self.flagged);
@@ -240,7 +245,15 @@ impl Prepare {
         mode: Mode,
         threshold: Real,
     ) {
-        if !rb.is_dynamic() || rb.is_sleeping() {
+        if !rb.is_dynamic() {
+            // A kinematic body faster than the threshold may strike a
+            // marked body at rest, which is not flagged.
+            if rb.is_kinematic() && rb.linvel().length_squared() > threshold * threshold {
+                self.flag(rb, colliders, marks);
+            }
+            return;
+        }
+        if rb.is_sleeping() {
             return;
         }
         let any_marked = if rb.linvel().length_squared() > threshold * threshold {
@@ -317,7 +330,9 @@ impl Prepare {
     }
 
     /// Set the hook flag on the marked colliders of `rb` (leaving a flag the
-    /// user set alone); whether it has any marked collider.
+    /// user set alone); whether it has any marked collider. A kinematic
+    /// body's colliders are all flagged with `Config::fixed_partners` (they
+    /// meet marked colliders by the law, marked or not).
     pub(crate) fn flag(
         &mut self,
         rb: &RigidBody,
@@ -325,10 +340,11 @@ impl Prepare {
         marks: &Marks,
     ) -> bool {
         let mut any_marked = false;
+        let partner = self.partners && rb.is_kinematic();
         for &ch in rb.colliders() {
             // An extended collider on a dynamic body is rapier's (see
             // `Marks::governs`): no hook for it.
-            if !marks.contains(ch) || marks.is_extended(ch) {
+            if !partner && (!marks.contains(ch) || marks.is_extended(ch)) {
                 continue;
             }
             any_marked = true;

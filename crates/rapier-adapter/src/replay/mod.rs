@@ -38,7 +38,7 @@ use std::cmp::Ordering;
 
 use kimpact::{Law, Mass};
 
-use crate::body_view::{LawBody, Starts, law_body, path_velocity};
+use crate::body_view::{LawBody, Starts, dominate, law_body, path_velocity};
 use crate::candidates::Candidate;
 use crate::config::Config;
 use crate::events::EventLog;
@@ -99,6 +99,8 @@ struct Node {
     /// impact (NaN until then; a dynamic body's mass does not change
     /// during the run, and a pile hits the same nodes again and again).
     mass: Real,
+    /// The body's dominance group (rapier's), read with `mass`.
+    dominance: i8,
 }
 
 impl Node {
@@ -669,23 +671,30 @@ impl Replay {
                 );
                 break;
             }
-            let mut mass = |n: usize, c: ColliderHandle| -> Mass<Real> {
+            let mut mass = |n: usize, c: ColliderHandle| -> Option<Mass<Real>> {
                 let node = &mut self.nodes[n];
                 if !node.dynamic {
-                    return Mass::Infinite;
+                    return Some(Mass::Infinite);
                 }
                 if node.mass.is_nan() {
                     let parent = colliders.get(c).and_then(|co| co.parent());
-                    match law_body(bodies, parent).mass {
-                        Mass::Finite(m) => node.mass = m,
+                    match law_body(bodies, parent)?.mass {
+                        Mass::Finite(m) => {
+                            node.mass = m;
+                            node.dominance = parent
+                                .and_then(|h| bodies.get(h))
+                                .map_or(0, |rb| rb.dominance_group());
+                        }
                         // Not dynamic after all: as before, not cached.
-                        Mass::Infinite => return Mass::Infinite,
+                        Mass::Infinite => return Some(Mass::Infinite),
                     }
                 }
-                Mass::Finite(node.mass)
+                Some(Mass::Finite(node.mass))
             };
-            let ma = mass(pair.a, pair.c1);
-            let mb = mass(pair.b, pair.c2);
+            // A body with some translations locked: the pair is rapier's.
+            let (Some(ma), Some(mb)) = (mass(pair.a, pair.c1), mass(pair.b, pair.c2)) else {
+                continue;
+            };
             let (na, nb) = (self.nodes[pair.a], self.nodes[pair.b]);
             let la = LawBody {
                 mass: ma,
@@ -694,6 +703,16 @@ impl Replay {
             let lb = LawBody {
                 mass: mb,
                 velocity: nb.law_velocity(self.phase, t, dt),
+            };
+            // Two dynamic bodies of different dominance groups: the dominant
+            // one is immovable to the other, as rapier's solver takes it.
+            let (la, lb) = if na.dominance == nb.dominance || ma.is_infinite() || mb.is_infinite() {
+                (la, lb)
+            } else {
+                (
+                    dominate(la, na.dominance, nb.dominance),
+                    dominate(lb, nb.dominance, na.dominance),
+                )
             };
             let candidate = Candidate {
                 collider1: pair.c1,
@@ -715,9 +734,13 @@ impl Replay {
                 continue;
             };
             events += 1;
-            for (n, dv) in [(pair.a, impact.delta_v_a), (pair.b, impact.delta_v_b)] {
+            for (n, dv, m) in [
+                (pair.a, impact.delta_v_a, la.mass),
+                (pair.b, impact.delta_v_b, lb.mass),
+            ] {
                 let node = &mut self.nodes[n];
-                if !node.dynamic {
+                // (A dominant body's path stays as it is.)
+                if !node.dynamic || m.is_infinite() {
                     continue;
                 }
                 // After the step the path bends at the impact. Before it,

@@ -2,6 +2,7 @@
 //! once per run, found by collider and body index.
 
 use super::*;
+use crate::body_view::translations_locked;
 
 /// A node with this many pairs is crowded (a body spawned into others, a
 /// dense pile): whether a pair of it is in the run is looked up in
@@ -100,8 +101,11 @@ impl Replay {
             Key::Collider(_) => None,
         };
         let rb = parent.and_then(|h| bodies.get(h));
+        // A dynamic body whose every translation is locked does not move:
+        // an immovable node, as a fixed body's.
+        let moves = rb.is_some_and(|rb| rb.is_dynamic() && !translations_locked(rb));
         let node = match rb {
-            Some(rb) if rb.is_dynamic() && self.phase == Phase::Pre => {
+            Some(rb) if moves && self.phase == Phase::Pre => {
                 let x = rb.translation();
                 let u = rb.linvel();
                 Node {
@@ -120,9 +124,10 @@ impl Replay {
                     swept: None,
                     sweep_due: None,
                     mass: Real::NAN,
+                    dominance: 0,
                 }
             }
-            Some(rb) if rb.is_dynamic() => {
+            Some(rb) if moves => {
                 let x1 = rb.translation();
                 let handle = parent.expect("a body has a handle");
                 let x0 = input.starts.of(handle).unwrap_or(x1);
@@ -159,6 +164,7 @@ impl Replay {
                     swept: None,
                     sweep_due: None,
                     mass: Real::NAN,
+                    dominance: 0,
                 }
             }
             Some(rb) => {
@@ -181,6 +187,7 @@ impl Replay {
                     swept: None,
                     sweep_due: None,
                     mass: Real::NAN,
+                    dominance: 0,
                 }
             }
             None => Node {
@@ -198,6 +205,7 @@ impl Replay {
                 swept: None,
                 sweep_due: None,
                 mass: Real::NAN,
+                dominance: 0,
             },
         };
         let i = self.nodes.len();
