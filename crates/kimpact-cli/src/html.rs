@@ -34,8 +34,9 @@ const TITLE_SLOT: &str = "<!--KIMPACT_TITLE-->";
 /// step only.
 pub const MAX_VALUES: u64 = 500_000;
 
-/// Width of a panel in the page, in CSS pixels (the pictures' panels are
-/// [`render::PANEL_WIDTH`]; the page draws the same view larger).
+/// Width (or, for a view taller than wide, height) of a panel in the
+/// page, in CSS pixels (the pictures' panels are [`render::PANEL_WIDTH`]
+/// wide; the page draws the same view larger).
 pub const PAGE_PANEL_WIDTH: u32 = 560;
 
 /// `f32` values recorded per mode and shown step: the moving bodies'
@@ -283,7 +284,14 @@ pub fn page(
             }
         })
         .collect();
-    let (w, h) = render::panel_size_for(PAGE_PANEL_WIDTH, bounds);
+    // At most PAGE_PANEL_WIDTH wide and high: tall views get narrower.
+    let aspect = (bounds.1[1] - bounds.0[1]) / (bounds.1[0] - bounds.0[0]);
+    let width = if aspect > 1.0 {
+        (f64::from(PAGE_PANEL_WIDTH) / aspect.min(2.0)).round() as u32
+    } else {
+        PAGE_PANEL_WIDTH
+    };
+    let (w, h) = render::panel_size_for(width, bounds);
     let data = PageData {
         name: &scene.name,
         description: scene.description.as_deref(),
