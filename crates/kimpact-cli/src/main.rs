@@ -3,7 +3,7 @@
 //!
 //! ```text
 //! kimpact run SCENE [--mode M] [--steps N] [--out FILE]
-//! kimpact compare SCENE [--steps N] [--out DIR]
+//! kimpact compare SCENE [--steps N] [--out DIR] [--gif]
 //! kimpact check SCENE
 //! ```
 //!
@@ -21,8 +21,10 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 
+mod animation;
 mod compare;
 mod error;
+mod html;
 mod output;
 mod plot;
 mod render;
@@ -63,7 +65,12 @@ enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
     },
-    /// Run native and the three law modes; write reports, a summary, plots and pictures.
+    /// Run native and the three law modes; write reports, a summary, plots, pictures and a page.
+    ///
+    /// The page, `compare.html`, animates the four modes side by side (play,
+    /// pause, scrub, speed), with the energy and momentum curves and the
+    /// summary table. It is one self-contained file that loads nothing from
+    /// the network; long runs show every N-th step (stated on the page).
     Compare {
         /// The scene file (.json, .ron or .toml).
         scene: PathBuf,
@@ -73,6 +80,9 @@ enum Command {
         /// Output directory (default: `out/<scene name>`).
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Also write `compare.gif`: native beside exact, animated in real time.
+        #[arg(long)]
+        gif: bool,
     },
     /// Validate a scene and print a one-line summary.
     Check {
@@ -118,10 +128,15 @@ fn execute(cli: Cli) -> Result<(), CliError> {
             steps,
             out,
         } => run(&scene, mode, steps, out.as_deref()),
-        Command::Compare { scene, steps, out } => {
+        Command::Compare {
+            scene,
+            steps,
+            out,
+            gif,
+        } => {
             let scene = load(&scene)?;
             let dir = out.unwrap_or_else(|| Path::new("out").join(&scene.name));
-            compare::compare(&scene, steps, &dir)
+            compare::compare(&scene, steps, &dir, compare::Extras { gif })
         }
         Command::Check { scene } => {
             let scene = load(&scene)?;

@@ -196,6 +196,16 @@ pub fn png(
     pixmap.encode_png().map_err(|e| e.to_string())
 }
 
+/// Write `text` on `pixmap` with the bundled font, `size` pixels per em,
+/// its top-left corner at `pos` (the animation's captions).
+pub fn label(pixmap: &mut Pixmap, text: &str, pos: (i32, i32), size: u32, rgb: (u8, u8, u8)) {
+    let color = RGBColor(rgb.0, rgb.1, rgb.2);
+    let style = TextStyle::from(("sans-serif", size).into_font()).color(&color);
+    let mut backend = PngBackend { pixmap };
+    // Drawing text on a pixmap has no failure of its own.
+    let _ = backend.draw_text(text, &style, pos);
+}
+
 /// The bundled font (DejaVu Sans; license in `assets/fonts/`).
 fn font() -> &'static FontRef<'static> {
     static FONT: OnceLock<FontRef<'static>> = OnceLock::new();

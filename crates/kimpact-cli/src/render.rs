@@ -60,14 +60,22 @@ pub fn bounds(scene: &Scene, frames: &[&Frame]) -> Bounds {
 /// Panel size for `bounds`: [`PANEL_WIDTH`] wide, height from the aspect
 /// ratio (between a quarter and twice the width).
 pub fn panel_size(b: &Bounds) -> (u32, u32) {
+    panel_size_for(PANEL_WIDTH, b)
+}
+
+/// Panel size for `bounds` at a given width (the page's panels): height
+/// from the aspect ratio, between a quarter and twice the width.
+pub fn panel_size_for(width: u32, b: &Bounds) -> (u32, u32) {
+    let w = f64::from(width);
     let aspect = (b.1[1] - b.0[1]) / (b.1[0] - b.0[0]);
-    let h = (PANEL_WIDTH as f64 * aspect).clamp(PANEL_WIDTH as f64 / 4.0, PANEL_WIDTH as f64 * 2.0);
-    (PANEL_WIDTH, h.round() as u32)
+    let h = (w * aspect).clamp(w / 4.0, w * 2.0);
+    (width, h.round() as u32)
 }
 
 /// A colour per body: fixed grey, law bodies by index around the hue circle,
-/// other moving bodies dark olive.
-fn color(scene: &Scene, i: usize) -> (u8, u8, u8) {
+/// other moving bodies dark olive (the page, `compare.html`, takes the
+/// same colours).
+pub fn color(scene: &Scene, i: usize) -> (u8, u8, u8) {
     let b = &scene.bodies[i];
     if b.fixed {
         return (150, 150, 150);
