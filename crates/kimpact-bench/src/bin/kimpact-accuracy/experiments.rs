@@ -156,9 +156,11 @@ impl Sizes {
             z_rapier_t: 5.0,
             z_eq: (2.0, 1.0),
             w_min: 1.5,
-            ell2: V::<2>::new(16.0, 8.0),
-            ell3: V::<3>::new(5.0, 5.0, 10.0),
-            ell3_large: V::<3>::new(6.0, 6.0, 12.0),
+            // The smallest boxes whose lattices still hold the calibrated
+            // number of balls more than a diameter apart.
+            ell2: V::<2>::new(20.0, 10.0),
+            ell3: V::<3>::new(8.0, 8.0, 16.0),
+            ell3_large: V::<3>::new(9.0, 9.0, 18.0),
             calibrate_t: [10.0, 10.0, 10.0],
             cooling_t: 2.0,
             cooling_checkpoints: 12,

@@ -98,6 +98,23 @@ pub fn z_tables(z: &[ZEntry]) -> (Vec<Vec<String>>, Vec<Vec<String>>) {
     (main, checks)
 }
 
+/// `rustc 1.95.0 (59807616e 2026-04-14)` without the commit hash (the docs
+/// name no commits): `rustc 1.95.0 (2026-04-14)`.
+fn without_hash(version: &str) -> String {
+    let mut out: Vec<String> = Vec::new();
+    let mut open = false;
+    for w in version.split(' ') {
+        let bare = w.trim_start_matches('(');
+        if bare.len() >= 7 && bare.chars().all(|c| c.is_ascii_hexdigit()) {
+            open = w.starts_with('(');
+            continue;
+        }
+        out.push(if open { format!("({w}") } else { w.to_owned() });
+        open = false;
+    }
+    out.join(" ")
+}
+
 /// The machine, the toolchain and the date, for the header.
 pub fn machine() -> String {
     let cpu = std::fs::read_to_string("/proc/cpuinfo")
@@ -122,7 +139,7 @@ pub fn machine() -> String {
     format!(
         "{cpu}, {cores} cores available to the process, {}; {}; {}",
         cmd("uname", &["-sr"]),
-        cmd("rustc", &["-V"]),
+        without_hash(&cmd("rustc", &["-V"])),
         cmd("date", &["-u", "+%Y-%m-%d %H:%M UTC"])
     )
 }
@@ -328,4 +345,26 @@ pub fn document(
         s.push('\n');
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_rustc_version_loses_its_commit_hash_only() {
+        assert_eq!(
+            without_hash("rustc 1.95.0 (59807616e 2026-04-14)"),
+            "rustc 1.95.0 (2026-04-14)"
+        );
+        assert_eq!(without_hash("rustc 1.95.0"), "rustc 1.95.0");
+    }
+
+    #[test]
+    fn findings_between_the_markers_are_kept_and_a_placeholder_otherwise() {
+        let old = format!("# x\n{FINDINGS_BEGIN}\nmine\n{FINDINGS_END}\n");
+        assert_eq!(findings(Some(&old)), "\nmine\n");
+        assert!(findings(None).contains("Write the findings here"));
+        assert!(findings(Some("no markers")).contains("Write the findings here"));
+    }
 }
