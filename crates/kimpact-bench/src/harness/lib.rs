@@ -1,0 +1,33 @@
+//! `kimpact_harness`: every simulator of the accuracy study behind one
+//! interface, the scenes it runs and the measurements it takes.
+//!
+//! The rapier side is the adapter built four times (`kimpact2d`,
+//! `kimpact3d`, `kimpact2d-f64`, `kimpact3d-f64`); one macro wraps each into
+//! the same [`Sim`] interface as the exact event-driven reference
+//! (`kimpact-reference`), so that every experiment is written once, generic
+//! over the dimension, and run on the same initial balls in every
+//! simulator. The `kimpact-accuracy` binary of this package and the CI
+//! comparisons (`tests/accuracy.rs` of the workspace) are built on it.
+#![warn(missing_docs)]
+// `f64::from(x)` converts in the f32 builds and is the identity in the f64 ones.
+#![allow(clippy::useless_conversion, clippy::unnecessary_cast)]
+
+mod backend;
+mod error;
+mod measure;
+mod method;
+mod scenes;
+mod sim;
+
+pub use backend::{B2_F32, B2_F64, B3_F32, B3_F64, Backend};
+pub use error::HarnessError;
+pub use measure::{GasSeries, ShortResult, gas_series, kinetic, momentum, short_run};
+pub use method::Method;
+pub use scenes::{
+    DT, R, Rng, Setup, Velocities, ball_volume, cradle_setup, gas_setup, lattice, two_ball_setup,
+    unit_x, z_setup,
+};
+pub use sim::{RefSim, Sim, State, Totals};
+
+/// A vector of the reference's dimension `D`, in f64.
+pub type V<const D: usize> = kimpact_reference::nalgebra::SVector<f64, D>;

@@ -1,0 +1,178 @@
+//! What a run measures: energies and momenta, the errors of a short scene
+//! against the reference, and a gas over time.
+
+use crate::{Backend, DT, HarnessError, Method, R, RefSim, Setup, Sim, V};
+
+/// The kinetic energy of `state` (masses from `setup`).
+pub fn kinetic<const D: usize>(setup: &Setup<D>, state: &[(V<D>, V<D>)]) -> f64 {
+    setup
+        .balls
+        .iter()
+        .zip(state)
+        .map(|(b, (_, v))| 0.5 * b.mass * v.norm_squared())
+        .sum()
+}
+
+/// The total momentum of `state` (masses from `setup`).
+pub fn momentum<const D: usize>(setup: &Setup<D>, state: &[(V<D>, V<D>)]) -> V<D> {
+    setup
+        .balls
+        .iter()
+        .zip(state)
+        .map(|(b, (_, v))| v * b.mass)
+        .sum()
+}
+
+/// Errors of a short scene against the reference at the same time.
+#[derive(Copy, Clone, Debug)]
+pub struct ShortResult {
+    /// Largest velocity difference (the incoming speed is 1).
+    pub dv: f64,
+    /// Largest position difference, in radii.
+    pub dx: f64,
+    /// Kinetic energy kept.
+    pub kept: f64,
+    /// |Δ momentum| relative to the initial momentum.
+    pub dp: f64,
+}
+
+/// Run `setup` to `t_end` with `method` and the reference to the same
+/// time, and compare.
+///
+/// # Errors
+/// A scene a simulator refuses, or a reference that cannot go on.
+pub fn short_run<const D: usize>(
+    b: &Backend<D>,
+    setup: &Setup<D>,
+    method: Method,
+    t_end: f64,
+) -> Result<ShortResult, HarnessError> {
+    let mut sim = b.sim(setup, method)?;
+    sim.advance_to(t_end)?;
+    let mut reference = RefSim::new(setup)?;
+    reference.advance_to(sim.time())?;
+    let s = sim.state();
+    let r = reference.state();
+    let dv = s
+        .iter()
+        .zip(&r)
+        .map(|(a, b)| (a.1 - b.1).norm())
+        .fold(0.0, f64::max);
+    let dx = s
+        .iter()
+        .zip(&r)
+        .map(|(a, b)| (a.0 - b.0).norm())
+        .fold(0.0, f64::max)
+        / R;
+    let initial: Vec<_> = setup
+        .balls
+        .iter()
+        .map(|b| (b.position, b.velocity))
+        .collect();
+    let p0 = momentum(setup, &initial);
+    Ok(ShortResult {
+        dv,
+        dx,
+        kept: kinetic(setup, &s) / kinetic(setup, &initial),
+        dp: (momentum(setup, &s) - p0).norm() / p0.norm(),
+    })
+}
+
+/// A gas over time: kinetic energy, momentum and impacts at checkpoints;
+/// speeds in units of the rms speed pooled over the second half.
+#[derive(Clone, Debug)]
+pub struct GasSeries {
+    /// The checkpoint times (0 first).
+    pub t: Vec<f64>,
+    /// Kinetic energy over the initial one.
+    pub energy: Vec<f64>,
+    /// |P| in units of sqrt(2 M E).
+    pub momentum: Vec<f64>,
+    /// Impacts so far.
+    pub impacts: Vec<u64>,
+    /// Speeds over the rms speed, pooled over the second half.
+    pub speeds: Vec<f64>,
+    /// Milliseconds per rapier step (NaN for the reference).
+    pub ms_per_step: f64,
+    /// Why the run stopped early, if it did.
+    pub error: Option<String>,
+    /// The wall-impulse residual ([`Sim::impulse_residual`]).
+    pub residual: f64,
+    /// Balls found outside the box at the end.
+    pub escaped: usize,
+    /// What the simulator counted that is unusual ([`Sim::diagnostics`]).
+    pub diagnostics: Option<String>,
+}
+
+/// Run `setup` with `method` to `t_end`, measuring at `checkpoints`
+/// evenly spaced whole base steps. A reference that stops early ends the
+/// series there (`error` says why).
+///
+/// # Errors
+/// A scene the simulator refuses.
+pub fn gas_series<const D: usize>(
+    b: &Backend<D>,
+    setup: &Setup<D>,
+    method: Method,
+    t_end: f64,
+    checkpoints: usize,
+) -> Result<GasSeries, HarnessError> {
+    let mut sim = b.sim(setup, method)?;
+    let mut out = GasSeries {
+        t: vec![0.0],
+        energy: vec![1.0],
+        momentum: vec![],
+        impacts: vec![0],
+        speeds: vec![],
+        ms_per_step: 0.0,
+        error: None,
+        residual: 0.0,
+        escaped: 0,
+        diagnostics: None,
+    };
+    let initial: Vec<_> = setup
+        .balls
+        .iter()
+        .map(|b| (b.position, b.velocity))
+        .collect();
+    let e0 = kinetic(setup, &initial);
+    let m_total: f64 = setup.balls.iter().map(|b| b.mass).sum();
+    // |P| in units of sqrt(2 M E): about 1/sqrt(N) for an equilibrium gas.
+    out.momentum
+        .push(momentum(setup, &initial).norm() / (2.0 * m_total * e0).sqrt());
+    for c in 1..=checkpoints {
+        // Whole base steps, so that every simulator stops at the same times.
+        let steps = (t_end / DT * c as f64 / checkpoints as f64).round();
+        if let Err(e) = sim.advance_to(steps * DT) {
+            out.error = Some(e.to_string());
+            break;
+        }
+        let state = sim.state();
+        let e = kinetic(setup, &state);
+        out.t.push(sim.time());
+        out.energy.push(e / e0);
+        out.momentum
+            .push(momentum(setup, &state).norm() / (2.0 * m_total * e).sqrt());
+        out.impacts.push(sim.totals().impacts());
+        if 2 * c > checkpoints {
+            let v_rms = (2.0 * e / m_total).sqrt();
+            out.speeds
+                .extend(state.iter().map(|(_, v)| v.norm() / v_rms));
+        }
+    }
+    let (busy, steps) = sim.busy();
+    out.ms_per_step = if steps > 0 {
+        1e3 * busy / steps as f64
+    } else {
+        f64::NAN
+    };
+    out.diagnostics = sim.diagnostics();
+    out.residual = sim.impulse_residual();
+    let (lo, hi) = (setup.bounds.lo, setup.bounds.hi);
+    out.escaped = sim
+        .state()
+        .iter()
+        .filter(|(p, _)| (0..D).any(|k| !(p[k] >= lo[k] && p[k] <= hi[k])))
+        .count();
+    Ok(out)
+}

@@ -1,0 +1,251 @@
+//! The scenes: balls in a box, built the same way for every simulator.
+
+use std::f64::consts::PI;
+
+use kimpact_reference::{Ball, BoxBounds};
+
+use crate::{HarnessError, V};
+
+/// A scene: balls in a box, the law's dissipation and rapier's time step.
+#[derive(Clone, Debug)]
+pub struct Setup<const D: usize> {
+    /// The balls, in the order every simulator reports them.
+    pub balls: Vec<Ball<D>>,
+    /// The box. The reference always has one; rapier gets fixed cuboid
+    /// walls on its faces only when `walls`.
+    pub bounds: BoxBounds<D>,
+    /// Whether rapier gets walls.
+    pub walls: bool,
+    /// The law's dissipation `d̃` (balls and walls).
+    pub dissipation: f64,
+    /// rapier's time step.
+    pub dt: f64,
+}
+
+/// rapier's default time step.
+pub const DT: f64 = 1.0 / 60.0;
+/// Every ball: diameter σ = 1, mass 1.
+pub const R: f64 = 0.5;
+
+/// The seeded generator of the lattices: `rand`'s portable Xoshiro256++.
+#[derive(Clone, Debug)]
+pub struct Rng(rand::rngs::Xoshiro256PlusPlus);
+
+impl Rng {
+    /// The generator seeded with `seed`.
+    pub fn new(seed: u64) -> Self {
+        use rand::SeedableRng;
+        Self(rand::rngs::Xoshiro256PlusPlus::seed_from_u64(seed))
+    }
+
+    /// Uniform in `[0, 1)`.
+    pub fn uniform(&mut self) -> f64 {
+        use rand::RngExt;
+        self.0.random()
+    }
+
+    /// Uniform in `[-a, a)`.
+    pub fn sym(&mut self, a: f64) -> f64 {
+        a * (2.0 * self.uniform() - 1.0)
+    }
+
+    /// A standard normal deviate (Box–Muller).
+    pub fn gauss(&mut self) -> f64 {
+        let u = 1.0 - self.uniform();
+        let v = self.uniform();
+        (-2.0 * u.ln()).sqrt() * (2.0 * PI * v).cos()
+    }
+}
+
+/// The unit vector along the first axis.
+pub fn unit_x<const D: usize>() -> V<D> {
+    let mut v = V::<D>::zeros();
+    v[0] = 1.0;
+    v
+}
+
+/// Volume of a ball of radius `r` in `D` dimensions (2 or 3).
+pub fn ball_volume(d: usize, r: f64) -> f64 {
+    if d == 2 {
+        PI * r * r
+    } else {
+        4.0 / 3.0 * PI * r * r * r
+    }
+}
+
+/// How [`lattice`] draws the velocities.
+#[derive(Copy, Clone, Debug)]
+pub enum Velocities {
+    /// Components uniform in `[-a, a]` (kT = a²/3): relaxes to Maxwell.
+    Uniform(f64),
+    /// Maxwell at kT = 1, total momentum removed, energy rescaled to exactly
+    /// `D N / 2`.
+    Maxwell,
+}
+
+/// `n` balls on a jittered lattice filling the box `[0, size]` (a random
+/// choice of the sites when the lattice has more).
+///
+/// # Errors
+/// [`HarnessError::Crowded`] when `n` balls do not fit apart in the box.
+pub fn lattice<const D: usize>(
+    n: usize,
+    size: V<D>,
+    velocities: Velocities,
+    seed: u64,
+) -> Result<Vec<Ball<D>>, HarnessError> {
+    let mut rng = Rng::new(seed);
+    let mut s = (size.product() / n as f64).powf(1.0 / D as f64);
+    let counts = loop {
+        let c: Vec<usize> = (0..D)
+            .map(|k| (size[k] / s).floor().max(1.0) as usize)
+            .collect();
+        if c.iter().product::<usize>() >= n {
+            break c;
+        }
+        s *= 0.99;
+    };
+    let sites: usize = counts.iter().product();
+    let mut order: Vec<usize> = (0..sites).collect();
+    for i in 0..n {
+        let j = i + (rng.uniform() * (sites - i) as f64) as usize;
+        order.swap(i, j.min(sites - 1));
+    }
+    let mut chosen = order[..n].to_vec();
+    chosen.sort_unstable();
+    let spacing = V::<D>::from_fn(|k, _| size[k] / counts[k] as f64);
+    if n == 0 || spacing.min() <= 2.0 * R {
+        return Err(HarnessError::Crowded { balls: n });
+    }
+    let mut balls: Vec<Ball<D>> = chosen
+        .iter()
+        .map(|&site| {
+            let mut rest = site;
+            let p = V::<D>::from_fn(|k, _| {
+                let c = rest % counts[k];
+                rest /= counts[k];
+                let jitter = 0.49 * (spacing[k] - 2.0 * R);
+                (c as f64 + 0.5) * spacing[k] + rng.sym(jitter)
+            });
+            let v = match velocities {
+                Velocities::Uniform(a) => V::<D>::from_fn(|_, _| rng.sym(a)),
+                Velocities::Maxwell => V::<D>::from_fn(|_, _| rng.gauss()),
+            };
+            Ball::new(R, 1.0, p, v)
+        })
+        .collect();
+    if let Velocities::Maxwell = velocities {
+        let mean: V<D> = balls.iter().map(|b| b.velocity).sum::<V<D>>() / n as f64;
+        for b in &mut balls {
+            b.velocity -= mean;
+        }
+        let e: f64 = balls.iter().map(|b| b.kinetic_energy()).sum();
+        let scale = (0.5 * (D * n) as f64 / e).sqrt();
+        for b in &mut balls {
+            b.velocity *= scale;
+        }
+    }
+    Ok(balls)
+}
+
+/// The kind of gas of the CI test (`tests/accuracy.rs`): `n` balls at
+/// packing fraction 0.3 in a cube, velocity components uniform in `[-3, 3]`
+/// (here on randomly chosen lattice sites and scaled to kT = 3 exactly, so
+/// that draws differ only in their balls; the CI test fills its lattice row
+/// by row and keeps the drawn energy).
+///
+/// # Errors
+/// As [`lattice`].
+pub fn gas_setup<const D: usize>(
+    n: usize,
+    dissipation: f64,
+    dt: f64,
+    seed: u64,
+) -> Result<Setup<D>, HarnessError> {
+    let side = (n as f64 * ball_volume(D, R) / 0.3).powf(1.0 / D as f64);
+    let size = V::<D>::repeat(side);
+    let mut balls = lattice(n, size, Velocities::Uniform(3.0), seed)?;
+    // Every draw gets the same energy (kT = 3), so that different draws
+    // are samples of the same gas.
+    let e: f64 = balls.iter().map(|b| b.kinetic_energy()).sum();
+    let scale = (1.5 * (D * n) as f64 / e).sqrt();
+    for b in &mut balls {
+        b.velocity *= scale;
+    }
+    Ok(Setup {
+        balls,
+        bounds: BoxBounds::new(V::zeros(), size),
+        walls: true,
+        dissipation,
+        dt,
+    })
+}
+
+/// Two balls (masses 1 and `m2`), the first at speed 1 reaching the second,
+/// offset by `offset` across its path, 0.3 base steps into the third base
+/// step; no walls in rapier, a far box for the reference.
+pub fn two_ball_setup<const D: usize>(m2: f64, dissipation: f64, offset: f64, dt: f64) -> Setup<D> {
+    let gap = ((2.0 * R).powi(2) - offset * offset).sqrt();
+    let mut p2 = V::<D>::zeros();
+    p2[0] = gap + 2.3 * DT;
+    p2[1] = offset;
+    let centre = V::<D>::repeat(20.0);
+    Setup {
+        balls: vec![
+            Ball::new(R, 1.0, centre, unit_x::<D>()),
+            Ball::new(R, m2, centre + p2, V::<D>::zeros()),
+        ],
+        bounds: BoxBounds::new(V::zeros(), V::repeat(40.0)),
+        walls: false,
+        dissipation,
+        dt,
+    }
+}
+
+/// Newton's cradle: five touching balls and a sixth arriving at speed 1
+/// half a base step into the fourth base step.
+pub fn cradle_setup<const D: usize>(dt: f64) -> Setup<D> {
+    let centre = V::<D>::repeat(20.0);
+    let mut balls = vec![Ball::new(
+        R,
+        1.0,
+        centre - unit_x::<D>() * (2.0 * R + 3.5 * DT),
+        unit_x::<D>(),
+    )];
+    for i in 0..5 {
+        balls.push(Ball::new(
+            R,
+            1.0,
+            centre + unit_x::<D>() * (2.0 * R * i as f64),
+            V::<D>::zeros(),
+        ));
+    }
+    Setup {
+        balls,
+        bounds: BoxBounds::new(V::zeros(), V::repeat(40.0)),
+        walls: false,
+        dissipation: 0.0,
+        dt,
+    }
+}
+
+/// The box of a Z measurement: `n` balls in a box whose lengths
+/// accessible to the centres are `ell` (the box is `ell + σ`), Maxwell
+/// velocities at kT = 1, elastic, rapier's default step.
+///
+/// # Errors
+/// As [`lattice`].
+pub fn z_setup<const D: usize>(n: usize, ell: V<D>, seed: u64) -> Result<Setup<D>, HarnessError> {
+    let size = ell.add_scalar(2.0 * R);
+    let mut balls = lattice(n, ell, Velocities::Maxwell, seed)?;
+    for b in &mut balls {
+        b.position = b.position.add_scalar(R);
+    }
+    Ok(Setup {
+        balls,
+        bounds: BoxBounds::new(V::zeros(), size),
+        walls: true,
+        dissipation: 0.0,
+        dt: DT,
+    })
+}
