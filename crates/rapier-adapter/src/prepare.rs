@@ -202,7 +202,7 @@ impl Prepare {
                 }
             };
             // A NaN velocity is not swept (the hook's guard cuts it off).
-            if (path_velocity(rb, gravity_dt) * dt).length() > half {
+            if (path_velocity(rb, gravity_dt) * dt).length() > 0.5 * half {
                 let index = ch.into_raw_parts().0 as usize;
                 if self.swept_at.len() <= index {
                     self.swept_at.resize(index + 1, 0);
