@@ -13,7 +13,7 @@ use core::str::FromStr;
 /// | mode | who finds the impacts | who applies the law | when |
 /// | --- | --- | --- | --- |
 /// | `Native` | rapier | nobody: rapier unchanged | — |
-/// | `Restitution` | rapier (kimpact for bodies fast enough to tunnel) | rapier's solver, with the law's restitution per manifold | at detection |
+/// | `Restitution` | rapier (kimpact for bodies fast enough to tunnel) | rapier's solver, with the law's restitution per manifold (kimpact, for those fast bodies) | at detection (at the time of impact) |
 /// | `Impulse` | rapier's contacts (kimpact for bodies fast enough to tunnel) | kimpact, in time order | at the analytic time of impact, inside the step |
 /// | `Exact` | rapier's contacts and kimpact's sweeps of every body that outruns rapier's prediction distance | kimpact, in time order | at the analytic time of impact, inside the step |
 ///
@@ -26,7 +26,11 @@ pub enum Mode {
     /// The law's effective restitution `e = u'/u` is written into each new
     /// manifold of a marked pair; rapier's solver applies it. Cheapest; exact
     /// for an isolated impact, inherits rapier's errors when contacts are
-    /// simultaneous (Newton's cradle).
+    /// simultaneous (Newton's cradle). A body that moves more than a
+    /// quarter of its size per step (which could sink into a partner by
+    /// more than a radius, cross it, or leave its box between two of
+    /// rapier's contacts) is the replay's instead: its pairs are resolved
+    /// after the step as in `Impulse`.
     Restitution,
     /// The replay of `Exact` on the pairs rapier's contacts hold (and those
     /// of bodies that move more than half their size per step): the law at

@@ -19,6 +19,10 @@ pub(crate) struct Candidate {
     pub start1: LawBody,
     /// See `start1`.
     pub start2: LawBody,
+    /// Whether the replay resolves the pair after the step (its solver
+    /// contacts were cleared); otherwise rapier's solver bounced it with
+    /// the law's restitution (restitution mode), to be reported.
+    pub by_replay: bool,
 }
 
 impl Candidate {

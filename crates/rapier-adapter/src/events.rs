@@ -23,8 +23,8 @@ pub struct ImpactEvent {
     /// it (see `by_solver`).
     pub time: Real,
     /// `true` when rapier's solver applied the law's restitution for this
-    /// impact (`Restitution` mode, for a pair its pass before the step did
-    /// not resolve): rapier's contact impulses include it.
+    /// impact (`Restitution` mode, for a pair of bodies slower than half
+    /// their size per step): rapier's contact impulses include it.
     /// `false` when kimpact changed the velocities itself.
     pub by_solver: bool,
     /// The contact point (world space) at the impact.

@@ -37,6 +37,10 @@ pub struct StepHooks<'a> {
     pub(crate) user: &'a dyn PhysicsHooks,
 }
 
+/// How far past the step's end (relative to `dt`) the hook's graze test
+/// still takes a meeting as in this step (rounding at the step's end).
+const GRAZE_HORIZON: Real = 1e-3;
+
 impl StepHooks<'_> {
     fn user_flagged(&self, colliders: &ColliderSet, c: ColliderHandle) -> bool {
         let (index, _) = c.into_raw_parts();
@@ -124,15 +128,23 @@ impl PhysicsHooks for StepHooks<'_> {
         // rapier's speculative contact is linear: it takes a pair whose gap
         // closes by more than the gap along the normal as meeting, even when
         // the bodies' real paths pass each other (a graze), and bounces it
-        // ("ghost" collisions; in impulse mode these are the pairs the pass
-        // before the step found not meeting). Such a pair keeps no contact
+        // ("ghost" collisions). Such a pair keeps no contact
         // this step: it is apart now and does not meet on its path. Unless
         // either collider touches something else: rapier's solver may then
         // push its body off that path (a ball in a landing pile, bounced up
         // by the balls under it, into one falling onto it), and only the
         // contact keeps the two apart.
         let reach = (approach + margin) * dt;
-        if self.mode == Mode::Restitution
+        // The replay's pairs: every pair in impulse and exact mode; in
+        // restitution mode those of a body too fast for rapier's contacts
+        // (swept by the replay after the step).
+        let by_replay = match self.mode {
+            Mode::Native => false,
+            Mode::Restitution => self.prepare.is_swept(c1) || self.prepare.is_swept(c2),
+            Mode::Impulse | Mode::Exact => true,
+        };
+        if !by_replay
+            && self.mode == Mode::Restitution
             && approach > rest_speed
             && dist > 0.0
             && dist <= reach
@@ -150,8 +162,14 @@ impl PhysicsHooks for StepHooks<'_> {
             *rigid.restitution = 0.0;
             return;
         }
+        if by_replay {
+            // rapier leaves the pair alone this step; kimpact resolves it
+            // after the step.
+            rigid.solver_contacts.clear();
+            self.record(context, n, point, dist, b1, b2, true);
+            return;
+        }
         match self.mode {
-            Mode::Native => {}
             Mode::Restitution => {
                 let tangential = (w + n * approach).length();
                 let law = self.marks.law(self.law, c1, c2);
@@ -163,7 +181,7 @@ impl PhysicsHooks for StepHooks<'_> {
                         // an impulse (a speculative contact further away gets
                         // none, and stays fresh for the next step).
                         if dist <= reach * 1.01 + Real::EPSILON {
-                            self.record(context, n, point, dist, b1, b2);
+                            self.record(context, n, point, dist, b1, b2, false);
                         }
                     }
                     // Invalid masses (a NaN mass reached rapier): no bounce,
@@ -171,12 +189,7 @@ impl PhysicsHooks for StepHooks<'_> {
                     _ => *rigid.restitution = 0.0,
                 }
             }
-            Mode::Impulse | Mode::Exact => {
-                // rapier leaves the pair alone this step; kimpact resolves it
-                // after the step.
-                rigid.solver_contacts.clear();
-                self.record(context, n, point, dist, b1, b2);
-            }
+            Mode::Native | Mode::Impulse | Mode::Exact => {}
         }
     }
 }
@@ -213,13 +226,14 @@ impl StepHooks<'_> {
                 co2.position(),
                 path(rb2),
                 co2.shape(),
-                frame.dt * (1.0 + crate::replay::PRE_HORIZON),
+                frame.dt * (1.0 + GRAZE_HORIZON),
                 true,
             ),
             Ok(None)
         )
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn record(
         &self,
         context: &ContactModificationContext,
@@ -228,6 +242,7 @@ impl StepHooks<'_> {
         dist: Real,
         start1: LawBody,
         start2: LawBody,
+        by_replay: bool,
     ) {
         self.candidates.push(Candidate {
             collider1: context.collider1,
@@ -237,6 +252,7 @@ impl StepHooks<'_> {
             dist,
             start1,
             start2,
+            by_replay,
         });
     }
 }

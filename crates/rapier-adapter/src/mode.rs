@@ -3,9 +3,10 @@
 
 pub use kimpact::{Mode, ParseModeError};
 
-/// Whether `mode` resolves a step's impacts after rapier's step, by the
-/// replay (`Impulse`, `Exact`): the hook then takes the law's pairs from
-/// rapier's solver and the bodies' starts are stored.
+/// Whether `mode` may resolve impacts after rapier's step, by the replay
+/// (every law mode: `Impulse` and `Exact` every governed impact,
+/// `Restitution` those of bodies too fast for rapier's contacts), so that
+/// the bodies' starts are stored.
 pub(crate) fn replays(mode: Mode) -> bool {
-    matches!(mode, Mode::Impulse | Mode::Exact)
+    mode != Mode::Native
 }

@@ -1,5 +1,5 @@
 //! Before rapier's step: which colliders get kimpact's contact hook this
-//! step, and where the replaying modes' (impulse, exact) bodies start it.
+//! step, and where the bodies start it.
 //!
 //! A hook on a pair costs rapier its contact recycling for that pair, so
 //! only the marked colliders of bodies that could start an impact get
@@ -7,11 +7,11 @@
 //! speed (and, with calm neighbourhoods, not moving with every partner
 //! they could touch; see the `calm` module).
 
-use crate::body_view::Starts;
+use crate::body_view::{Starts, path_velocity};
 use crate::calm::{Calm, Frame};
 use crate::frame::StepFrame;
 use crate::marks::Marks;
-use crate::math::Real;
+use crate::math::{Real, Vector};
 use crate::mode::Mode;
 use crate::rapier::prelude::*;
 
@@ -47,6 +47,11 @@ pub(crate) struct Prepare {
     /// Per collider index: the step (`epoch`) at which it was flagged while
     /// touching something (see [`Prepare::find_crowded`]).
     crowded: Vec<u32>,
+    /// Restitution mode: the flagged colliders whose bodies move more than
+    /// a quarter of their size this step ([`Prepare::find_swept`]).
+    pub swept: Vec<ColliderHandle>,
+    /// Per collider index: the step (`epoch`) at which it was last swept.
+    swept_at: Vec<u32>,
     epoch: u32,
     /// Colliders marked since the last step: their bodies may not be in
     /// rapier's active set yet (inserted, or woken, since the last step).
@@ -55,7 +60,7 @@ pub(crate) struct Prepare {
     /// a woken body to its active set only inside the next step, so `run`
     /// looks at them then.
     pub woken: Vec<RigidBodyHandle>,
-    /// Per body index: start-of-step translation (impulse and exact mode).
+    /// Per body index: start-of-step translation (every law mode).
     #[cfg_attr(feature = "serde-serialize", serde(skip))]
     pub starts: Starts,
     /// Calm neighbourhoods (`Config::calm_neighbourhoods`).
@@ -69,7 +74,7 @@ pub(crate) struct Prepare {
 impl Prepare {
     /// Set the hook flag on the marked colliders of moving, awake dynamic
     /// bodies (only they can start an impact), clear the flags we set on
-    /// others, and, in impulse and exact mode, store where those bodies start the step.
+    /// others, and store where those bodies start the step.
     ///
     /// Walks rapier's active (awake) bodies, the colliders marked since the
     /// last step and the bodies kimpact woke (rapier adds those to its active
@@ -163,6 +168,58 @@ impl Prepare {
         }
         self.previous.clear();
         calm_bodies
+    }
+
+    /// Restitution mode: note which flagged colliders' bodies move more
+    /// than a quarter of the collider's size this step: two balls slower
+    /// than that close by at most a radius per step, so rapier's contacts
+    /// never let one sink a radius into the other, where a faster ball can
+    /// sink deeper, cross a partner or leave its box between two of
+    /// rapier's contacts. The replay sweeps them after the step, and the hook leaves their pairs
+    /// to it ([`Prepare::is_swept`]). Reads only the flagged colliders;
+    /// allocates nothing in steady state.
+    pub(crate) fn find_swept(
+        &mut self,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        gravity_dt: Vector,
+        dt: Real,
+    ) {
+        self.swept.clear();
+        for &ch in &self.flagged {
+            let Some(co) = colliders.get(ch) else {
+                continue;
+            };
+            let Some(rb) = co.parent().and_then(|h| bodies.get(h)) else {
+                continue;
+            };
+            if !rb.is_dynamic() {
+                continue;
+            }
+            let half = match co.shape().as_ball() {
+                Some(ball) => ball.radius,
+                None => {
+                    let aabb = co.compute_aabb();
+                    0.5 * (aabb.maxs - aabb.mins).min_element()
+                }
+            };
+            // A NaN velocity is not swept (the hook's guard cuts it off).
+            if (path_velocity(rb, gravity_dt) * dt).length() > 0.5 * half {
+                let index = ch.into_raw_parts().0 as usize;
+                if self.swept_at.len() <= index {
+                    self.swept_at.resize(index + 1, 0);
+                }
+                self.swept_at[index] = self.epoch;
+                self.swept.push(ch);
+            }
+        }
+    }
+
+    /// Whether collider `ch` is one of this step's swept colliders
+    /// ([`Prepare::find_swept`]).
+    pub(crate) fn is_swept(&self, ch: ColliderHandle) -> bool {
+        let index = ch.into_raw_parts().0 as usize;
+        self.swept_at.get(index) == Some(&self.epoch)
     }
 
     /// Note which flagged colliders touch something (an active contact in
@@ -267,7 +324,7 @@ impl Prepare {
     }
 
     /// The pass of `prepare` with calm neighbourhoods (see the `calm`
-    /// module): every awake body is taken (its start stored in impulse and exact mode),
+    /// module): every awake body is taken (its start stored),
     /// judged, and a fast body flagged unless calm. The number of fast
     /// bodies and the number left calm.
     fn prepare_calm(&mut self, input: &PrepareInput, colliders: &mut ColliderSet) -> (usize, u64) {

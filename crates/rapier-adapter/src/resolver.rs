@@ -358,16 +358,18 @@ impl Kimpact {
     /// Stage 1 of a step, before `PhysicsPipeline::step`: sets kimpact's
     /// hook flag (`ActiveHooks::MODIFY_SOLVER_CONTACTS`) on the marked
     /// colliders of the bodies that could start an impact this step (and
-    /// clears the flags it set last step on others), stores where exact
-    /// mode's bodies start, and, in `Restitution` mode, runs the pass before
-    /// the step (the law's velocity changes of the impacts of bodies fast
-    /// enough to tunnel, written into `bodies`). Clears [`Kimpact::events`].
+    /// clears the flags it set last step on others), stores where the
+    /// bodies start, and, in `Restitution` mode, notes the bodies too fast
+    /// for rapier's contacts (more than a quarter of their size per step), whose
+    /// pairs the replay takes after the step. Clears [`Kimpact::events`].
     ///
     /// Takes the same gravity, integration parameters and user hooks
     /// (`hooks`, or `&()`) as the step that follows, and rapier's sets as
-    /// they are before it. The joints and the user's `filter_contact_pair`
-    /// decide whether a pair kimpact's sweeps find may touch, as they do
-    /// for rapier's narrow phase.
+    /// they are before it. The joints and the user's hooks are those
+    /// [`Kimpact::after_step`] takes (where they decide whether a pair
+    /// kimpact's sweeps find may touch, as they do for rapier's narrow
+    /// phase); nothing before the step reads them today, and the stages
+    /// keep one signature so that a caller's code does not depend on it.
     #[allow(clippy::too_many_arguments)]
     pub fn before_step(
         &mut self,
@@ -404,38 +406,12 @@ impl Kimpact {
                 .wake_moving(bodies, colliders, frame.rest_speed);
         }
         if mode == Mode::Restitution {
+            // The hook's graze test, and the bodies the replay takes over.
             self.prepare.find_crowded(narrow_phase);
-            // The law on the impacts of fast bodies, which rapier could let
-            // pass; the others get it through rapier's restitution.
-            let input = ReplayInput {
-                law: &self.law,
-                config: &self.config,
-                marks: &self.marks,
-                flagged: &self.prepare.flagged,
-                starts: &self.prepare.starts,
-                candidates: &[],
-                frame,
-                filter: PairFilter::new(impulse_joints, multibody_joints, hooks),
-            };
-            let mut out = ReplayOutput {
-                log: &mut self.log,
-                woken: &mut self.prepare.woken,
-            };
-            self.replay.run_pre(
-                &input,
-                &mut out,
-                bodies,
-                colliders,
-                narrow_phase,
-                broad_phase,
-            );
-            // Bodies set moving by an impact need the hook this step too.
-            for handle in self.replay.hit_bodies() {
-                if let Some(rb) = bodies.get(handle) {
-                    self.prepare.flag(rb, colliders, &self.marks);
-                }
-            }
+            self.prepare
+                .find_swept(bodies, colliders, frame.gravity_dt(), frame.dt);
         }
+        let _ = (impulse_joints, multibody_joints, hooks);
         self.prepared = Some(Prepared { frame, mode });
     }
 
@@ -463,11 +439,12 @@ impl Kimpact {
         }
     }
 
-    /// Stage 3, after `PhysicsPipeline::step`: in `Impulse` and `Exact`
-    /// mode, the replay of the step's impacts in time order (positions and
-    /// velocities of the bodies it bends are written into `bodies`); in
-    /// `Restitution` mode, the events of the impacts rapier's solver bounced
-    /// with the law's restitution. Fills [`Kimpact::events`] and
+    /// Stage 3, after `PhysicsPipeline::step`: the replay of the step's
+    /// impacts in time order (positions and velocities of the bodies it
+    /// bends are written into `bodies`): every governed impact in `Impulse`
+    /// and `Exact` mode, those of the bodies too fast for rapier's contacts
+    /// in `Restitution` mode, which also reports the impacts rapier's solver
+    /// bounced with the law's restitution. Fills [`Kimpact::events`] and
     /// [`Kimpact::stats`].
     ///
     /// Takes rapier's sets as its step left them, and the same user hooks
@@ -498,13 +475,25 @@ impl Kimpact {
         self.candidates.collect();
         match mode {
             Mode::Native => {}
-            Mode::Restitution => self.report_restitution(narrow_phase),
-            Mode::Impulse | Mode::Exact => {
+            Mode::Restitution | Mode::Impulse | Mode::Exact => {
+                if mode == Mode::Restitution {
+                    self.report_restitution(narrow_phase);
+                    if self.prepare.swept.is_empty() {
+                        // Nothing too fast for rapier's contacts: every
+                        // impact was rapier's solver's.
+                        return Ok(());
+                    }
+                }
+                // Restitution mode sweeps only its fast bodies.
+                let swept = match mode {
+                    Mode::Restitution => &self.prepare.swept,
+                    _ => &self.prepare.flagged,
+                };
                 let input = ReplayInput {
                     law: &self.law,
                     config: &self.config,
                     marks: &self.marks,
-                    flagged: &self.prepare.flagged,
+                    flagged: swept,
                     starts: &self.prepare.starts,
                     candidates: self.candidates.sorted(),
                     frame,
@@ -533,6 +522,9 @@ impl Kimpact {
     /// each pair whose contact carried an impulse this step.
     fn report_restitution(&mut self, narrow_phase: &NarrowPhase) {
         for c in self.candidates.sorted() {
+            if c.by_replay {
+                continue;
+            }
             let bounced = narrow_phase
                 .contact_pair(c.collider1, c.collider2)
                 .is_some_and(|cp| {

@@ -1,6 +1,7 @@
-//! Impulse and exact mode: the impacts of one step, resolved in time order
-//! at their analytic times of impact, after rapier's step (and restitution
-//! mode's pass before it, for bodies fast enough to tunnel).
+//! The law's modes' replay: the impacts of one step, resolved in time
+//! order at their analytic times of impact, after rapier's step (impulse
+//! and exact mode: every governed impact; restitution mode: those of the
+//! bodies fast enough to tunnel).
 //!
 //! rapier integrates positions with the velocity it solved, so within a step
 //! every body moves on a straight line from its start `x₀` to its end `x₁`,
@@ -28,17 +29,17 @@
 //! replay rewinds it (a graze that begins and ends within the step is
 //! missed).
 //!
-//! Restitution mode runs the same replay *before* rapier's step
-//! (`run_pre`) for its fast bodies only: the lines are the ones rapier is
-//! about to integrate (`x₀ + (v + g dt) t`), a body's line after an impact
-//! restarts from `x₀` with its new velocity (that is how rapier will move
-//! it), and only velocities are written back.
+//! Restitution mode hands the replay only the bodies that move more than
+//! a quarter of their size per step (and their pairs, which rapier's solver then
+//! leaves alone): rapier's solver bounces every other pair with the law's
+//! restitution. A line that crosses its box several times per step is
+//! bent at every wall, and the body is written back inside.
 
 use std::cmp::Ordering;
 
 use kimpact::{Law, Mass};
 
-use crate::body_view::{LawBody, Starts, dominate, law_body, path_velocity};
+use crate::body_view::{LawBody, Starts, dominate, law_body};
 use crate::candidates::Candidate;
 use crate::config::Config;
 use crate::events::EventLog;
@@ -113,8 +114,7 @@ impl Node {
     /// velocity plus gravity over half a substep, [`Node::g_half`]). After
     /// the step, `u` is the velocity at its end: the law meets the bodies
     /// at `t`, before gravity's share of the rest of the step (which they
-    /// keep afterwards). Before it, rapier moves a body from the start of
-    /// the step with the velocity it is given, so the law meets it there.
+    /// keep afterwards).
     ///
     /// Between two bodies under the same gravity the offsets cancel (the
     /// law conserves momentum); against a fixed partner they are what
@@ -122,11 +122,8 @@ impl Node {
     /// `½ m |v + g h/2|² − m g·x` in free flight, so a law that reversed `v`
     /// itself would change the next flight's energy by `m h g·Δv / 2`
     /// (a lower apex at every bounce).
-    fn law_velocity(&self, phase: Phase, t: Real, dt: Real) -> Vector {
-        match phase {
-            Phase::Post => self.u - self.g_dt * ((dt - t) / dt) + self.g_half,
-            Phase::Pre => self.u + self.g_half,
-        }
+    fn law_velocity(&self, t: Real, dt: Real) -> Vector {
+        self.u - self.g_dt * ((dt - t) / dt) + self.g_half
     }
 
     /// The box a ball riding the node's path sweeps from `from` to `to`:
@@ -169,8 +166,6 @@ struct Pair {
     /// [`Replay::apart`] to be predicted (see [`Replay::defer_if_apart`]);
     /// −∞ when it does not.
     apart_at: Real,
-    /// How many times the law resolved the pair this run.
-    resolved: u32,
     /// The next pair of node `a`'s list and of node `b`'s (`NO_PAIR` at the
     /// end; see [`Replay::ends`]).
     next: [u32; 2],
@@ -189,13 +184,6 @@ mod queue;
 mod sweep;
 
 use queue::PairQueue;
-
-/// Before the step, how many times a pair may be resolved in one run.
-const PRE_REPEATS: u32 = 2;
-
-/// Before the step, how far past its end (relative to `dt`) a meeting is
-/// still taken in this step.
-pub(crate) const PRE_HORIZON: Real = 1e-3;
 
 /// Approach speeds below this times the sum of the two bodies' speeds are
 /// resting contacts: rounding level (7.6e-6 in f32, 1.4e-14 in f64).
@@ -221,20 +209,6 @@ impl Slot {
             node: node as u32,
         };
     }
-}
-
-/// When the replay runs, relative to rapier's step.
-#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
-enum Phase {
-    /// `Impulse`, `Exact`: after the step, on the straight lines rapier
-    /// moved the bodies along; positions and velocities are written back.
-    #[default]
-    Post,
-    /// `Restitution`: before the step, for the bodies fast enough to
-    /// tunnel, on the lines they are about to follow (`v + g dt`); only
-    /// velocities are written back, so rapier's solver integrates the new
-    /// velocities with every contact it keeps.
-    Pre,
 }
 
 /// What a replay run reads: the law, the settings and marks in force, the
@@ -263,7 +237,6 @@ pub(crate) struct ReplayOutput<'a> {
 /// allocates nothing.
 #[derive(Default)]
 pub(crate) struct Replay {
-    phase: Phase,
     /// `g dt`: what rapier adds to a dynamic body's velocity this step.
     gravity_dt: Vector,
     /// The rest speed of this run.
@@ -416,13 +389,8 @@ impl Replay {
         let config = input.config;
         for &ch in rb.colliders() {
             for cp in narrow_phase.contact_pairs_with(ch) {
-                // After the step, only the contacts rapier saw (touching
-                // neighbours); before it, every pair the broad phase keeps
-                // that may meet (tested first: a body spawned into a crowd
-                // has a long list of pairs to look the pair up in).
-                if (self.phase == Phase::Post && !cp.has_any_active_contact())
-                    || (self.phase == Phase::Pre
-                        && !self.may_meet(bodies, colliders, cp.collider1, cp.collider2, dt))
+                // Only the contacts rapier saw (touching neighbours).
+                if !cp.has_any_active_contact()
                     || self.has_pair(cp.collider1, cp.collider2)
                     || !input.marks.governs(
                         config.fixed_partners,
@@ -469,65 +437,13 @@ impl Replay {
         }
     }
 
-    /// Restitution mode, before rapier's step: the impacts the bodies fast
-    /// enough to tunnel (more than half their size per step, which rapier
-    /// could miss) are about to have this step, with the pairs the broad
-    /// phase finds along their paths, resolved in time order on the
-    /// velocities they have now. Only velocities change; rapier's solver
-    /// then integrates them with every contact in place (the law's pairs
-    /// separate, so their contacts carry no impulse unless something pushes
-    /// the pair together again).
-    pub(crate) fn run_pre(
-        &mut self,
-        input: &ReplayInput,
-        out: &mut ReplayOutput,
-        bodies: &mut RigidBodySet,
-        colliders: &ColliderSet,
-        narrow_phase: &NarrowPhase,
-        broad_phase: &BroadPhaseBvh,
-    ) {
-        let StepFrame {
-            gravity,
-            dt,
-            rest_speed,
-            ..
-        } = input.frame;
-        if !self.begin(Phase::Pre, gravity, dt, rest_speed) {
-            return;
-        }
-        self.sweep_reach = Real::INFINITY;
-        self.sweep_fast_bodies(input, bodies, colliders, broad_phase, dt);
-        self.resolve(input, out, bodies, colliders, narrow_phase, broad_phase, dt);
-        // In node order, as a walk over every node would take them.
-        self.hit.sort_unstable();
-        for &n in &self.hit {
-            let node = &self.nodes[n];
-            let Key::Body(h) = node.key else { continue };
-            if let Some(rb) = bodies.get_mut(h)
-                && node.u.is_finite()
-            {
-                rb.set_linvel(node.u, true);
-                out.woken.push(h);
-            }
-        }
-    }
-
-    /// Start a run: empty scratch, the phase and the step's constants;
-    /// whether the step can be replayed at all (`dt > 0`).
-    fn begin(&mut self, phase: Phase, gravity: Vector, dt: Real, rest_speed: Real) -> bool {
+    /// Start a run: empty scratch and the step's constants; whether the
+    /// step can be replayed at all (`dt > 0`).
+    fn begin(&mut self, gravity: Vector, dt: Real, rest_speed: Real) -> bool {
         self.clear();
-        self.phase = phase;
         self.gravity_dt = gravity * dt;
         self.rest_speed = rest_speed;
         dt > 0.0
-    }
-
-    /// The bodies whose velocity the last run changed.
-    pub(crate) fn hit_bodies(&self) -> impl Iterator<Item = RigidBodyHandle> + '_ {
-        self.hit.iter().filter_map(|&n| match self.nodes[n].key {
-            Key::Body(h) => Some(h),
-            Key::Collider(_) => None,
-        })
     }
 
     /// After rapier's step (`Impulse`, `Exact`): resolve this step's impacts
@@ -551,7 +467,7 @@ impl Replay {
             prediction,
             ..
         } = input.frame;
-        if !self.begin(Phase::Post, gravity, dt, rest_speed) {
+        if !self.begin(gravity, dt, rest_speed) {
             return;
         }
         // rapier's contacts (hence the candidates) reach `prediction` beyond
@@ -561,13 +477,18 @@ impl Replay {
         // per step at 60 Hz, the prediction is 0.02), and is swept in exact
         // mode. Impulse mode sweeps only what could tunnel: a pair rapier
         // did not reach is first seen overlapping next step, and rewound.
-        self.sweep_reach = if mode == Mode::Exact {
-            0.5 * prediction
-        } else {
-            Real::INFINITY
+        // Restitution mode hands over only the bodies that move more than
+        // a quarter of their size (`Prepare::find_swept`): each is swept.
+        self.sweep_reach = match mode {
+            Mode::Exact => 0.5 * prediction,
+            Mode::Impulse => Real::INFINITY,
+            Mode::Native | Mode::Restitution => 0.0,
         };
         for j in 0..input.candidates.len() {
             let c: Candidate = input.candidates[j];
+            if !c.by_replay {
+                continue; // bounced by rapier's solver (restitution mode)
+            }
             if let Some(i) = self.add_pair(input, bodies, colliders, c.collider1, c.collider2, dt) {
                 self.predict(bodies, colliders, i, 0.0, dt, true);
             }
@@ -656,14 +577,6 @@ impl Replay {
                 // predicted again once the instant is over.
                 continue;
             }
-            if self.phase == Phase::Pre && pair.resolved >= PRE_REPEATS {
-                // Back and forth on lines that all start at the step's
-                // start (a ball faster than its box is wide per step): no
-                // straight line rapier could integrate satisfies the pair;
-                // rapier's contacts take it from here.
-                continue;
-            }
-            self.pairs[i].resolved += 1;
             if events >= max_events {
                 out.log.cap_hit();
                 log::warn!(
@@ -698,11 +611,11 @@ impl Replay {
             let (na, nb) = (self.nodes[pair.a], self.nodes[pair.b]);
             let la = LawBody {
                 mass: ma,
-                velocity: na.law_velocity(self.phase, t, dt),
+                velocity: na.law_velocity(t, dt),
             };
             let lb = LawBody {
                 mass: mb,
-                velocity: nb.law_velocity(self.phase, t, dt),
+                velocity: nb.law_velocity(t, dt),
             };
             // Two dynamic bodies of different dominance groups: the dominant
             // one is immovable to the other, as rapier's solver takes it.
@@ -722,6 +635,7 @@ impl Replay {
                 dist: 0.0,
                 start1: la,
                 start2: lb,
+                by_replay: true,
             };
             let (Ok(ba), Ok(bb)) = (la.checked(), lb.checked()) else {
                 out.log.skip(&candidate);
@@ -743,13 +657,9 @@ impl Replay {
                 if !node.dynamic || m.is_infinite() {
                     continue;
                 }
-                // After the step the path bends at the impact. Before it,
-                // rapier will move the body with its new velocity from the
-                // start of the step: predict along that line.
-                if self.phase == Phase::Post {
-                    node.p = node.at(t);
-                    node.t_ref = t;
-                }
+                // The path bends at the impact.
+                node.p = node.at(t);
+                node.t_ref = t;
                 let dv = from_law(&dv);
                 node.v += dv;
                 node.u += dv;
@@ -760,16 +670,8 @@ impl Replay {
             }
             out.log.push(&candidate, t, pair.point, &impact, false);
             // Chains: neighbours of both bodies, then fresh predictions for
-            // every pair of the two bodies from now on. Before the step, a
-            // bent body's line starts again at the start of the step (that
-            // is how rapier will move it): its pairs are predicted on the
-            // whole new line, so that a meeting on it is found where the
-            // two first touch (with that normal), even before this
-            // instant, rather than as an overlap now.
-            let from = match self.phase {
-                Phase::Post => t.max(0.0),
-                Phase::Pre => 0.0,
-            };
+            // every pair of the two bodies from now on.
+            let from = t.max(0.0);
             instant = from;
             for n in [pair.a, pair.b] {
                 if self.nodes[n].dynamic {
@@ -786,7 +688,7 @@ impl Replay {
                     }
                 }
             }
-            let defer = self.phase == Phase::Post && t == from;
+            let defer = t == from;
             for n in [pair.a, pair.b] {
                 // The pairs listed now (a prediction adds none, but the
                 // list is walked up to its present end regardless); the

@@ -105,28 +105,6 @@ impl Replay {
         // an immovable node, as a fixed body's.
         let moves = rb.is_some_and(|rb| rb.is_dynamic() && !translations_locked(rb));
         let node = match rb {
-            Some(rb) if moves && self.phase == Phase::Pre => {
-                let x = rb.translation();
-                let u = rb.linvel();
-                Node {
-                    key,
-                    dynamic: true,
-                    x1: x,
-                    p: x,
-                    v: u + self.gravity_dt * rb.gravity_scale(),
-                    u,
-                    t_ref: 0.0,
-                    g_dt: self.gravity_dt * rb.gravity_scale(),
-                    g_half: input.frame.gravity
-                        * (rb.gravity_scale() * input.frame.half_substep(rb)),
-                    expanded: false,
-                    hit: false,
-                    swept: None,
-                    sweep_due: None,
-                    mass: Real::NAN,
-                    dominance: 0,
-                }
-            }
             Some(rb) if moves => {
                 let x1 = rb.translation();
                 let handle = parent.expect("a body has a handle");
@@ -177,9 +155,8 @@ impl Replay {
                     p: x1,
                     v,
                     u: v,
-                    // Where the body is now: the end of the step after
-                    // rapier's step, its start before it.
-                    t_ref: if self.phase == Phase::Pre { 0.0 } else { dt },
+                    // Where the body is now: the end of the step.
+                    t_ref: dt,
                     g_dt: Vector::ZERO,
                     g_half: Vector::ZERO,
                     expanded: true,
@@ -260,7 +237,6 @@ impl Replay {
             normal: Vector::ZERO,
             point: Vector::ZERO,
             apart_at: Real::NEG_INFINITY,
-            resolved: 0,
             next: [NO_PAIR; 2],
         });
         for n in [a, b] {
@@ -304,59 +280,6 @@ impl Replay {
             i = self.next_pair(this, n);
             Some(this)
         })
-    }
-
-    /// Before the step, a cheap test that colliders `c1` and `c2` cannot
-    /// have an impact this step: their velocities differ by no more than the
-    /// rest speed (the law would leave them to rapier), their bounding
-    /// spheres overlap already while not approaching, or they stay apart on
-    /// the bodies' current lines. A node whose velocity
-    /// the law changes later has its pairs tested again then.
-    pub(super) fn may_meet(
-        &self,
-        bodies: &RigidBodySet,
-        colliders: &ColliderSet,
-        c1: ColliderHandle,
-        c2: ColliderHandle,
-        dt: Real,
-    ) -> bool {
-        // (centre, path velocity, the law's velocity, bounding radius)
-        let sphere = |c: ColliderHandle| -> Option<(Vector, Vector, Vector, Real)> {
-            let co = colliders.get(c)?;
-            let local = co.shape().compute_local_bounding_sphere();
-            let r = local.center().length() + local.radius();
-            match co.parent().and_then(|h| bodies.get(h)) {
-                Some(rb) => {
-                    // A node's velocities are the ones the law changed.
-                    let (v, u) = match self.body_node(co.parent()) {
-                        Some(n) => (self.nodes[n].v, self.nodes[n].u),
-                        None => (path_velocity(rb, self.gravity_dt), rb.linvel()),
-                    };
-                    let offset = co
-                        .position_wrt_parent()
-                        .map_or(0.0, |p| p.translation.length());
-                    Some((rb.translation(), v, u, r + offset))
-                }
-                None => Some((co.position().translation, Vector::ZERO, Vector::ZERO, r)),
-            }
-        };
-        let (Some((x1, v1, u1, r1)), Some((x2, v2, u2, r2))) = (sphere(c1), sphere(c2)) else {
-            return true;
-        };
-        // Anything not finite (NaN) is left to the exact test.
-        if (u2 - u1).length().partial_cmp(&self.rest_speed) != Some(Ordering::Greater) {
-            return (u2 - u1).length().is_nan();
-        }
-        let gap = (x2 - x1).length() - r1 - r2;
-        // Overlapping deeply already (by more than half the smaller
-        // bounding radius: bodies spawned into each other, not a pile's
-        // resting overlap) and not approaching: rapier's to separate, not
-        // an impact.
-        if gap < -0.5 * r1.min(r2) && (u2 - u1).dot(x2 - x1) >= 0.0 {
-            return false;
-        }
-        let reach = (v2 - v1).length() * dt * (1.0 + 2.0 * PRE_HORIZON);
-        gap.partial_cmp(&reach) != Some(Ordering::Greater)
     }
 
     /// The node of body `h` in this run, if it has one.

@@ -16,13 +16,7 @@ impl Replay {
         allow_rewind: bool,
     ) {
         let pair = self.pairs[i];
-        // Before the step, a meeting right at its end (up to rounding) is
-        // taken now: rapier would otherwise see the pair touching, fresh and
-        // approaching, and bounce it itself.
-        let end = match self.phase {
-            Phase::Post => dt,
-            Phase::Pre => dt * (1.0 + PRE_HORIZON),
-        };
+        let end = dt;
         let Some(hit) = self.cast(bodies, colliders, &pair, from, end - from) else {
             self.queue.set(i, None);
             return;
@@ -94,10 +88,7 @@ impl Replay {
     /// impulses forever. Anything not finite is taken, for the law's checks
     /// to refuse and count.
     pub(super) fn takes(&self, a: &Node, b: &Node, normal: Vector, t: Real, dt: Real) -> bool {
-        let (va, vb) = (
-            a.law_velocity(self.phase, t, dt),
-            b.law_velocity(self.phase, t, dt),
-        );
+        let (va, vb) = (a.law_velocity(t, dt), b.law_velocity(t, dt));
         let approach = (va - vb).dot(normal);
         // Not at or below (NaN passes).
         let above = |x: Real| {

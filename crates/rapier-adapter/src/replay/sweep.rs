@@ -10,11 +10,6 @@ impl Replay {
     /// sweep dynamic against dynamic): query the broad phase along their
     /// path over the step and bring every governed collider it meets into
     /// the replay.
-    ///
-    /// Before the step, the box is grown by twice the body's own step: a
-    /// partner's box in rapier's broad phase is up to a step old, and the
-    /// partner moves during this one (enough for every slower partner; a
-    /// faster one finds the pair from its own sweep).
     pub(super) fn sweep_fast_bodies(
         &mut self,
         input: &ReplayInput,
@@ -30,12 +25,7 @@ impl Replay {
             let Some(handle) = colliders.get(ch).and_then(|co| co.parent()) else {
                 continue;
             };
-            if self.phase == Phase::Post && input.starts.of(handle).is_none() {
-                continue;
-            }
-            // Before the step a node's path is the body's own: a body too
-            // slow to be swept needs no node (restitution mode's gas, table).
-            if self.phase == Phase::Pre && !self.moves_far(bodies, colliders, ch, handle, dt) {
+            if input.starts.of(handle).is_none() {
                 continue;
             }
             let n = self.node(input, bodies, ch, Some(handle), dt);
@@ -61,30 +51,6 @@ impl Replay {
             }
         }
         self.sweepers = sweepers;
-    }
-
-    /// Before the step: whether collider `ch` of body `handle` moves far
-    /// enough along the body's path this step to be swept, the test of
-    /// [`Replay::swept_aabb`] on the path its node would get.
-    fn moves_far(
-        &self,
-        bodies: &RigidBodySet,
-        colliders: &ColliderSet,
-        ch: ColliderHandle,
-        handle: RigidBodyHandle,
-        dt: Real,
-    ) -> bool {
-        let (Some(rb), Some(co)) = (bodies.get(handle), colliders.get(ch)) else {
-            return true;
-        };
-        let half = match co.shape().as_ball() {
-            Some(ball) => ball.radius,
-            None => {
-                let aabb = co.compute_aabb();
-                0.5 * (aabb.maxs - aabb.mins).min_element()
-            }
-        };
-        (path_velocity(rb, self.gravity_dt) * dt).length() > half.min(self.sweep_reach)
     }
 
     /// The box collider `ch` of node `n` sweeps from `from` to the end of the
@@ -140,10 +106,6 @@ impl Replay {
                     }
                 }
             }
-        };
-        let swept = match self.phase {
-            Phase::Pre => swept.loosened(2.0 * moved.length()),
-            Phase::Post => swept,
         };
         // A box that is not finite (a body the runtime guard cuts off)
         // meets nothing.
@@ -265,34 +227,17 @@ impl Replay {
             }
             sweeping[index] = self.stamp;
         }
-        // Before the step a swept box is grown by twice its body's motion
-        // (a partner's box in rapier's tree is up to a step old), so two
-        // grown boxes meet far more often than a pair can: such a pair is
-        // taken, as one query per sweeper would take it, only if either
-        // grown box meets the other collider's box in rapier's tree (a
-        // sweeper whose velocity an impact changes later is swept again
-        // against those boxes).
-        //
-        // After the step, a pair of balls that does not meet on the paths
-        // the bodies have now is deferred: its prediction would be "never",
+        // A pair of balls that does not meet on the paths the bodies have
+        // now is deferred: its prediction would be "never",
         // and it matters only once an impact bends either path (most
         // pairs of a gas: their boxes meet, their balls do not).
-        let pre = self.phase == Phase::Pre;
         let mut deferred = std::mem::take(&mut self.deferred);
         deferred.clear();
         let nodes = &self.nodes;
         grid.self_join(|s, t| {
             let (a, b) = (&sweepers[s as usize], &sweepers[t as usize]);
-            let (ka, kb) = (a.collider.into_raw_parts().0, b.collider.into_raw_parts().0);
-            let meets = |grown: &Aabb, key: u32| {
-                tree.leaf_node(key)
-                    .is_some_and(|leaf| grown.intersects(&leaf.aabb()))
-            };
-            if pre {
-                if meets(&a.aabb, kb) || meets(&b.aabb, ka) {
-                    found.push((s, kb));
-                }
-            } else if let (Some((r1, o1)), Some((r2, o2))) = (a.ball, b.ball) {
+            let kb = b.collider.into_raw_parts().0;
+            if let (Some((r1, o1)), Some((r2, o2))) = (a.ball, b.ball) {
                 // The first cast `Replay::predict` would make of the pair.
                 let hit = cast_balls(&nodes[a.node], (r1, o1), &nodes[b.node], (r2, o2), 0.0, dt);
                 if hit.is_some() {
