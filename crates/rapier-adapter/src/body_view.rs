@@ -119,6 +119,19 @@ pub(crate) fn translations_locked(rb: &RigidBody) -> bool {
     rb.locked_axes().contains(TRANSLATIONS)
 }
 
+/// Half the size of collider `co`, the distance a body may move per step
+/// before it can cross a partner unseen: a ball's radius, otherwise half
+/// the shortest side of its box.
+pub(crate) fn half_size(co: &Collider) -> Real {
+    match co.shape().as_ball() {
+        Some(ball) => ball.radius,
+        None => {
+            let aabb = co.compute_aabb();
+            0.5 * (aabb.maxs - aabb.mins).min_element()
+        }
+    }
+}
+
 /// The velocity body `rb` moves along this step, on the straight path
 /// rapier integrates: its velocity plus gravity's `gravity_dt` (scaled by
 /// its gravity scale) for a dynamic body whose translations are not all

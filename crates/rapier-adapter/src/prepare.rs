@@ -7,7 +7,7 @@
 //! speed (and, with calm neighbourhoods, not moving with every partner
 //! they could touch; see the `calm` module).
 
-use crate::body_view::{Starts, path_velocity};
+use crate::body_view::{Starts, half_size, path_velocity};
 use crate::calm::{Calm, Frame};
 use crate::frame::StepFrame;
 use crate::marks::Marks;
@@ -196,13 +196,7 @@ impl Prepare {
             if !rb.is_dynamic() {
                 continue;
             }
-            let half = match co.shape().as_ball() {
-                Some(ball) => ball.radius,
-                None => {
-                    let aabb = co.compute_aabb();
-                    0.5 * (aabb.maxs - aabb.mins).min_element()
-                }
-            };
+            let half = half_size(co);
             // A NaN velocity is not swept (the hook's guard cuts it off).
             if (path_velocity(rb, gravity_dt) * dt).length() > 0.5 * half {
                 let index = ch.into_raw_parts().0 as usize;

@@ -84,13 +84,7 @@ impl Replay {
                 let co = colliders.get(ch)?;
                 let shape = co.shape();
                 let ball = shape.as_ball();
-                let half = match ball {
-                    Some(ball) => ball.radius,
-                    None => {
-                        let aabb = co.compute_aabb();
-                        0.5 * (aabb.maxs - aabb.mins).min_element()
-                    }
-                };
+                let half = crate::body_view::half_size(co);
                 if !far_enough(half) {
                     return None;
                 }
