@@ -1,5 +1,6 @@
 //! `kimpact_harness`: every simulator of the accuracy study behind one
-//! interface, the scenes it runs and the measurements it takes.
+//! interface, the scenes it runs, the measurements it takes and the colour
+//! each simulator is drawn in.
 //!
 //! The rapier side is the adapter built four times (`kimpact2d`,
 //! `kimpact3d`, `kimpact2d-f64`, `kimpact3d-f64`); one macro wraps each into
@@ -16,6 +17,7 @@ mod backend;
 mod error;
 mod measure;
 mod method;
+mod palette;
 mod scenes;
 mod sim;
 
@@ -23,6 +25,7 @@ pub use backend::{B2_F32, B2_F64, B3_F32, B3_F64, Backend};
 pub use error::HarnessError;
 pub use measure::{GasSeries, ShortResult, gas_series, kinetic, momentum, short_run};
 pub use method::Method;
+pub use palette::color;
 pub use scenes::{
     DT, R, Rng, Setup, Velocities, ball_volume, cradle_setup, gas_setup, lattice, two_ball_setup,
     unit_x, z_setup,

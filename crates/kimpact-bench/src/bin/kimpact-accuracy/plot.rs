@@ -4,7 +4,7 @@
 
 use std::collections::BTreeMap;
 
-use kimpact_harness::Method;
+use kimpact_harness::{Method, color};
 use plotters::coord::CoordTranslate;
 use plotters::prelude::*;
 
@@ -19,18 +19,6 @@ pub struct Panel {
     ylabel: &'static str,
     logx: bool,
     series: Vec<(Method, Vec<(f64, f64)>)>,
-}
-
-/// The colour of a simulator's series.
-fn color(method: Method) -> RGBColor {
-    use kimpact::Mode;
-    match method {
-        Method::Reference => RGBColor(0, 0, 0),
-        Method::Rapier(Mode::Native) => RGBColor(214, 39, 40),
-        Method::Rapier(Mode::Restitution) => RGBColor(255, 127, 14),
-        Method::Rapier(Mode::Impulse) => RGBColor(44, 160, 44),
-        Method::Rapier(Mode::Exact) => RGBColor(31, 119, 180),
-    }
 }
 
 /// The panels of the plot points `(panel title, simulator, x, y)`: the cost

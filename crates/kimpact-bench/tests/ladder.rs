@@ -1,0 +1,473 @@
+//! `kimpact-ladder --plot-only` on small fixtures written to a temporary
+//! folder: the plot holds one point (one `<circle>`) per joined (scene,
+//! quantity, mode), the page the joined table; a NaN leaves its points out
+//! with a note; a missing column, file or mode fails with a message naming
+//! it and leaves existing outputs as they were; a run without its sibling
+//! programs, or with one that fails, says which.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use serde_json::{Value, json};
+
+/// The modes, cheapest first.
+const MODES: [&str; 4] = ["native", "restitution", "impulse", "exact"];
+
+/// A fresh folder for one test.
+fn folder(name: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+        .join("ladder")
+        .join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// The fixtures' ×native: (scene, dim, ratios by mode).
+const RATIOS: [(&str, usize, [f64; 4]); 2] = [
+    ("gas2d", 2, [1.0, 1.19, 1.3, 1.6]),
+    ("gas3d", 3, [1.0, 1.14, 1.11, 1.33]),
+];
+
+/// A bench CSV: the joined rows, with `ratio` and `error` of
+/// (scene, mode) changed by `edit`, and rows the join must ignore (other
+/// scenes, balls, precisions). Its columns in another order than the
+/// bench's, and one more.
+fn bench_csv(edit: impl Fn(&str, &str) -> Option<(String, String)>) -> String {
+    let mut s = "mode,scene,dim,precision,parallel,balls,rounds,median_us,ratio,error\n".to_owned();
+    for (scene, dim, ratios) in RATIOS {
+        for (mode, ratio) in MODES.iter().zip(ratios) {
+            let (ratio, error) =
+                edit(scene, mode).unwrap_or_else(|| (format!("{ratio:.4}"), String::new()));
+            s += &format!("{mode},{scene},{dim},f32,false,1000,1,300.5,{ratio},{error}\n");
+            s += &format!("{mode},{scene},{dim},f32,false,10000,1,3000.5,9.0000,\n");
+            s += &format!("{mode},{scene},{dim},f64,false,1000,1,300.5,8.0000,\n");
+        }
+    }
+    s += "exact,pit3d,3,f32,false,1000,1,2000.1,1.1045,\"failed: a, b\"\n";
+    s
+}
+
+/// The fixtures' errors: (dim, quantity, noise floor, errors by mode).
+/// The 2D exact impact rate is below its floor (drawn hollow at it), the
+/// 2D exact energy error 0 without a floor (hollow at the bottom).
+const ERRORS: [(usize, &str, Option<f64>, [f64; 4]); 4] = [
+    (
+        2,
+        "impact_rate_error",
+        Some(0.0025),
+        [0.3, 0.5, 0.008, 0.001],
+    ),
+    (2, "energy_error", None, [0.2, 0.3, 3e-6, 0.0]),
+    (
+        3,
+        "impact_rate_error",
+        Some(0.002),
+        [0.7, 0.9, 0.005, 0.004],
+    ),
+    (3, "energy_error", None, [0.8, 0.9, 1e-5, 1.1e-5]),
+];
+
+/// An accuracy summary with the joined errors and entries the join must
+/// ignore (another time step, quantity, precision, scene).
+fn summary() -> Value {
+    let mut errors = Vec::new();
+    for (dim, quantity, floor, values) in ERRORS {
+        for (mode, error) in MODES.iter().zip(values) {
+            let mut e = json!({"scene": "gas", "dimension": dim, "precision": "f32",
+                "mode": mode, "dt_div": 1, "quantity": quantity, "error": error});
+            if let Some(f) = floor {
+                e["noise_floor"] = json!(f);
+            }
+            errors.push(e.clone());
+            e["dt_div"] = json!(2);
+            errors.push(e.clone());
+            e["dt_div"] = json!(1);
+            e["precision"] = json!("f64");
+            errors.push(e);
+            errors.push(json!({"scene": "gas", "dimension": dim, "precision": "f32",
+                "mode": mode, "dt_div": 1, "quantity": "ks_speeds_vs_reference",
+                "error": 0.01, "noise_floor": 0.012}));
+            errors.push(
+                json!({"scene": "cradle", "dimension": dim, "precision": "f32",
+                "mode": mode, "dt_div": 1, "quantity": "velocity_error", "error": 0.5}),
+            );
+        }
+    }
+    json!({"command": "kimpact-accuracy (fixture)", "quick": false, "errors": errors, "costs": []})
+}
+
+/// The paths of one test's inputs and outputs.
+struct Files {
+    dir: PathBuf,
+    csv: PathBuf,
+    json: PathBuf,
+    svg: PathBuf,
+    md: PathBuf,
+}
+
+impl Files {
+    /// The fixtures written into a fresh folder `name`.
+    fn new(name: &str, csv: &str, summary: &Value) -> Files {
+        let dir = folder(name);
+        let f = Files {
+            csv: dir.join("bench/results.csv"),
+            json: dir.join("accuracy-summary.json"),
+            svg: dir.join("out/ladder.svg"),
+            md: dir.join("out/ladder.md"),
+            dir,
+        };
+        std::fs::create_dir_all(f.csv.parent().unwrap()).unwrap();
+        std::fs::write(&f.csv, csv).unwrap();
+        std::fs::write(&f.json, serde_json::to_string_pretty(summary).unwrap()).unwrap();
+        f
+    }
+
+    /// The arguments naming these files.
+    fn args(&self) -> Vec<std::ffi::OsString> {
+        let mut a = Vec::new();
+        for (flag, path) in [
+            ("--bench-csv", &self.csv),
+            ("--accuracy-json", &self.json),
+            ("--svg", &self.svg),
+            ("--md", &self.md),
+        ] {
+            a.push(flag.into());
+            a.push(path.clone().into_os_string());
+        }
+        a
+    }
+
+    /// Outputs already there, to be left alone on an error.
+    fn old_outputs(&self) {
+        std::fs::create_dir_all(self.svg.parent().unwrap()).unwrap();
+        std::fs::write(&self.svg, "old svg").unwrap();
+        std::fs::write(&self.md, "old md").unwrap();
+    }
+
+    fn assert_old_outputs(&self) {
+        assert_eq!(std::fs::read_to_string(&self.svg).unwrap(), "old svg");
+        assert_eq!(std::fs::read_to_string(&self.md).unwrap(), "old md");
+        assert_eq!(
+            entries(self.svg.parent().unwrap()),
+            ["ladder.md", "ladder.svg"]
+        );
+    }
+}
+
+/// The names in a folder, sorted.
+fn entries(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+/// Run `exe` with `args`.
+fn run(exe: &Path, args: &[std::ffi::OsString]) -> Output {
+    Command::new(exe)
+        .args(args)
+        .output()
+        .expect("kimpact-ladder starts")
+}
+
+/// Run the ladder with `--plot-only` on `files`.
+fn plot_only(files: &Files) -> Output {
+    let mut args = vec!["--plot-only".into()];
+    args.extend(files.args());
+    run(Path::new(env!("CARGO_BIN_EXE_kimpact-ladder")), &args)
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// The table rows of the page.
+fn table(md: &str) -> Vec<&str> {
+    md.lines()
+        .filter(|l| l.starts_with("| ") && l.contains(" gas |"))
+        .collect()
+}
+
+#[test]
+fn draws_one_point_per_joined_scene_quantity_and_mode() {
+    let f = Files::new("ok", &bench_csv(|_, _| None), &summary());
+    let out = plot_only(&f);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let svg = std::fs::read_to_string(&f.svg).unwrap();
+    assert!(svg.starts_with("<svg"), "not an SVG");
+    assert_eq!(svg.matches("<circle").count(), 2 * 2 * 4);
+    assert!(!svg.contains("NaN"));
+    for text in [
+        "× native rapier (time per step)",
+        "error",
+        "impact rate error",
+        "energy error",
+        "2D gas",
+        "3D gas",
+        "exact",
+        "noise floor",
+        "hollow: at or below the noise floor",
+    ] {
+        assert!(svg.contains(text), "no {text:?} in the SVG");
+    }
+
+    let md = std::fs::read_to_string(&f.md).unwrap();
+    let rows = table(&md);
+    assert_eq!(rows.len(), 16, "{md}");
+    for row in [
+        "| 2D gas | impact rate error | native | 1.000 | 3.00e-1 | 2.50e-3 | the error |",
+        "| 2D gas | impact rate error | exact | 1.600 | 1.00e-3 | 2.50e-3 | the noise floor (hollow) |",
+        "| 2D gas | energy error | exact | 1.600 | 0.00e0 | — | the bottom (hollow) |",
+        "| 3D gas | impact rate error | impulse | 1.110 | 5.00e-3 | 2.00e-3 | the error |",
+        "| 3D gas | energy error | exact | 1.330 | 1.10e-5 | — | the error |",
+    ] {
+        assert!(rows.contains(&row), "no row {row:?} in\n{md}");
+    }
+    // scene, then quantity, then mode
+    assert!(rows[0].starts_with("| 2D gas | impact rate error | native"));
+    assert!(rows[15].starts_with("| 3D gas | energy error | exact"));
+    assert!(md.contains("![error against × native rapier, per mode and scene](ladder.svg)"));
+    assert!(md.contains("--bin kimpact-ladder -- --plot-only --bench-csv"));
+    assert!(md.contains("written by `kimpact-accuracy (fixture)`"));
+    assert!(!md.contains("## Left out"));
+    assert_eq!(
+        entries(f.svg.parent().unwrap()),
+        ["ladder.md", "ladder.svg"]
+    );
+}
+
+#[test]
+fn a_nan_leaves_its_points_out_with_a_note() {
+    let csv = bench_csv(|scene, mode| {
+        (scene == "gas3d" && mode == "impulse")
+            .then(|| ("NaN".into(), "\"timed out, after 600 s\"".into()))
+    });
+    let mut s = summary();
+    // serde_json writes a NaN as null
+    let entry = s["errors"]
+        .as_array_mut()
+        .unwrap()
+        .iter_mut()
+        .find(|e| {
+            e["dimension"] == 2
+                && e["mode"] == "native"
+                && e["quantity"] == "energy_error"
+                && e["dt_div"] == 1
+                && e["precision"] == "f32"
+        })
+        .unwrap();
+    entry["error"] = Value::Null;
+    let f = Files::new("nan", &csv, &s);
+    let out = plot_only(&f);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let svg = std::fs::read_to_string(&f.svg).unwrap();
+    assert_eq!(svg.matches("<circle").count(), 16 - 3);
+    assert!(!svg.contains("NaN"));
+    let md = std::fs::read_to_string(&f.md).unwrap();
+    assert_eq!(table(&md).len(), 13);
+    assert!(md.contains("## Left out"), "{md}");
+    let note = format!(
+        "- 3D gas, impact rate error, impulse: ×native is NaN in {}, line 20; the bench's error: timed out, after 600 s.",
+        f.csv.display()
+    );
+    assert!(md.contains(&note), "no {note:?} in\n{md}");
+    assert!(
+        md.contains("- 2D gas, energy error, native: the error is NaN in "),
+        "{md}"
+    );
+}
+
+#[test]
+fn a_missing_column_fails_naming_it_and_leaves_the_outputs_alone() {
+    let csv = bench_csv(|_, _| None).replacen(",ratio,", ",speedup,", 1);
+    let f = Files::new("column", &csv, &summary());
+    f.old_outputs();
+    let out = plot_only(&f);
+    assert!(!out.status.success());
+    let e = stderr(&out);
+    assert!(
+        e.contains(&format!("{}: no column `ratio`", f.csv.display())),
+        "{e}"
+    );
+    f.assert_old_outputs();
+}
+
+#[test]
+fn a_missing_file_fails_naming_it() {
+    let f = Files::new("file", &bench_csv(|_, _| None), &summary());
+    f.old_outputs();
+    std::fs::remove_file(&f.json).unwrap();
+    let out = plot_only(&f);
+    assert!(!out.status.success());
+    let e = stderr(&out);
+    assert!(
+        e.contains(&format!("cannot read {}", f.json.display())),
+        "{e}"
+    );
+    f.assert_old_outputs();
+}
+
+#[test]
+fn an_unreadable_number_or_a_missing_mode_fails_naming_it() {
+    let csv = bench_csv(|scene, mode| {
+        (scene == "gas2d" && mode == "exact").then(|| ("1.6x".into(), String::new()))
+    });
+    let f = Files::new("number", &csv, &summary());
+    let out = plot_only(&f);
+    assert!(!out.status.success());
+    let e = stderr(&out);
+    assert!(
+        e.contains(&format!(
+            "{}, line 11, column `ratio`: cannot read \"1.6x\" as a number",
+            f.csv.display()
+        )),
+        "{e}"
+    );
+
+    let csv: String = bench_csv(|_, _| None)
+        .lines()
+        .filter(|l| !l.starts_with("restitution,gas2d,2,f32,false,1000,"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let f = Files::new("mode", &csv, &summary());
+    f.old_outputs();
+    let out = plot_only(&f);
+    assert!(!out.status.success());
+    let e = stderr(&out);
+    assert!(
+        e.contains(&format!("{}: no restitution for gas2d", f.csv.display())),
+        "{e}"
+    );
+    assert!(
+        e.contains(&format!("which {} has", f.json.display())),
+        "{e}"
+    );
+    f.assert_old_outputs();
+}
+
+#[test]
+fn an_entry_without_a_field_fails_naming_it() {
+    let mut s = summary();
+    s["errors"][5].as_object_mut().unwrap().remove("error");
+    let f = Files::new("entry", &bench_csv(|_, _| None), &s);
+    let out = plot_only(&f);
+    assert!(!out.status.success());
+    let e = stderr(&out);
+    assert!(
+        e.contains(&format!("{}, errors[5].error: missing", f.json.display())),
+        "{e}"
+    );
+}
+
+/// The ladder's binary in a folder of its own (a hard link, or a copy),
+/// beside which a run looks for its siblings.
+fn lonely_ladder(dir: &Path) -> PathBuf {
+    let bin = dir.join("bin");
+    std::fs::create_dir_all(&bin).unwrap();
+    let exe = bin.join(format!("kimpact-ladder{}", std::env::consts::EXE_SUFFIX));
+    let src = Path::new(env!("CARGO_BIN_EXE_kimpact-ladder"));
+    if std::fs::hard_link(src, &exe).is_err() {
+        std::fs::copy(src, &exe).unwrap();
+    }
+    exe
+}
+
+#[test]
+fn without_its_siblings_a_run_says_how_to_build_them() {
+    let f = Files::new("siblings", &bench_csv(|_, _| None), &summary());
+    f.old_outputs();
+    let exe = lonely_ladder(&f.dir);
+    let out = run(&exe, &f.args());
+    assert!(!out.status.success());
+    let e = stderr(&out);
+    assert!(e.contains("kimpact-bench is not at"), "{e}");
+    assert!(e.contains("cargo build --release -p kimpact-bench"), "{e}");
+    f.assert_old_outputs();
+}
+
+#[cfg(unix)]
+#[test]
+fn a_failing_sibling_stops_the_run_naming_it() {
+    use std::os::unix::fs::PermissionsExt;
+    let f = Files::new("failing", &bench_csv(|_, _| None), &summary());
+    f.old_outputs();
+    let exe = lonely_ladder(&f.dir);
+    let bin = exe.parent().unwrap();
+    for (name, code) in [("kimpact-bench", 3), ("kimpact-accuracy", 0)] {
+        let path = bin.join(name);
+        std::fs::write(&path, format!("#!/bin/sh\nexit {code}\n")).unwrap();
+        std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
+    }
+    let out = run(&exe, &f.args());
+    assert!(!out.status.success());
+    let e = stderr(&out);
+    assert!(e.contains("kimpact-bench failed (exit status: 3)"), "{e}");
+    f.assert_old_outputs();
+    let csv = std::fs::read_to_string(&f.csv).unwrap();
+    assert_eq!(csv, bench_csv(|_, _| None), "the bench's CSV was replaced");
+}
+
+#[cfg(unix)]
+#[test]
+fn a_run_passes_the_published_arguments_and_puts_the_bench_results_in_place() {
+    use std::os::unix::fs::PermissionsExt;
+    // before the run, a CSV with a point left out; the fake bench writes
+    // the full fixture
+    let old = bench_csv(|scene, mode| {
+        (scene == "gas2d" && mode == "native").then(|| ("NaN".into(), String::new()))
+    });
+    let f = Files::new("run", &old, &summary());
+    let exe = lonely_ladder(&f.dir);
+    let bin = exe.parent().unwrap();
+    let fixture = f.dir.join("fixture.csv");
+    std::fs::write(&fixture, bench_csv(|_, _| None)).unwrap();
+    let bench = format!(
+        "#!/bin/sh\necho \"$@\" > '{args}'\nwhile [ $# -gt 0 ]; do [ \"$1\" = --out ] && out=$2; shift; done\nmkdir -p \"$out\" && cp '{fixture}' \"$out/results.csv\" && echo '- command: `fake bench`' > \"$out/results.md\"\n",
+        args = f.dir.join("bench-args").display(),
+        fixture = fixture.display(),
+    );
+    let accuracy = format!(
+        "#!/bin/sh\necho \"$@\" > '{}'\n",
+        f.dir.join("accuracy-args").display()
+    );
+    for (name, script) in [("kimpact-bench", bench), ("kimpact-accuracy", accuracy)] {
+        let path = bin.join(name);
+        std::fs::write(&path, script).unwrap();
+        std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
+    }
+    let scratch = f.dir.join("scratch");
+    let mut args = f.args();
+    args.extend([
+        "--quick".into(),
+        "--bench-out".into(),
+        scratch.clone().into_os_string(),
+    ]);
+    let out = run(&exe, &args);
+    assert!(out.status.success(), "{}", stderr(&out));
+
+    let read = |name: &str| std::fs::read_to_string(f.dir.join(name)).unwrap();
+    assert_eq!(
+        read("bench-args").trim(),
+        format!("--balls 1000 --out {}", scratch.display())
+    );
+    assert_eq!(
+        read("accuracy-args").trim(),
+        format!("--out {} --quick", f.dir.display())
+    );
+    assert_eq!(
+        std::fs::read_to_string(&f.csv).unwrap(),
+        bench_csv(|_, _| None)
+    );
+    assert!(
+        std::fs::read_to_string(f.csv.with_extension("md"))
+            .unwrap()
+            .contains("fake bench")
+    );
+    let svg = std::fs::read_to_string(&f.svg).unwrap();
+    assert_eq!(svg.matches("<circle").count(), 16);
+    let md = std::fs::read_to_string(&f.md).unwrap();
+    assert!(md.contains("written by `fake bench`"), "{md}");
+}
