@@ -2,10 +2,10 @@
 //! `kimpact` command line, in every format (`json`, `ron`, `toml`), then
 //! through the validator.
 //!
-//! The parser is kimpact-cli's own `src/scene.rs`, compiled here by
-//! `#[path]` (its only dependency inside the workspace is the core crate
-//! `kimpact`, for `Mode`, `Precision` and `LawParams`), so the target builds
-//! without rapier.
+//! The parser is the crate `kimpact-scene` (the CLI's and the testbed's;
+//! its only dependency inside the workspace is the core crate `kimpact`,
+//! for `Mode`, `Precision` and `LawParams`), so the target builds without
+//! rapier.
 //!
 //! The input is decoded as the CLI decodes a file (`read_to_string`, which
 //! rejects invalid UTF-8 with an error); invalid UTF-8 is also fed lossily
@@ -26,10 +26,7 @@
 
 use libfuzzer_sys::fuzz_target;
 
-#[allow(dead_code)]
-#[path = "../../crates/kimpact-cli/src/scene.rs"]
-mod scene;
-
+use kimpact_scene as scene;
 use scene::{MAX_BODIES, MAX_STEPS, Scene, SceneError, Shape};
 
 const FORMATS: [&str; 3] = ["json", "ron", "toml"];

@@ -29,10 +29,11 @@ mod output;
 mod plot;
 mod render;
 mod report;
-mod scene;
 mod sim;
 
 use error::CliError;
+// Scene files (`crate::scene::…` in the modules below).
+use kimpact_scene as scene;
 
 /// The accuracy ladder: the core's, shared by the four adapter crates.
 pub use kimpact::Mode;

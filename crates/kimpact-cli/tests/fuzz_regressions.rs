@@ -6,17 +6,13 @@
 //! The contract: `parse` and `validate` never panic; they return a scene or
 //! a typed [`SceneError`] with a non-empty message (and a 1-based location
 //! for parse errors); a validated scene holds only finite numbers. The
-//! parser is this crate's own `src/scene.rs`, compiled here by `#[path]` as
-//! the fuzz target does (the crate has no library target); the command line
-//! is checked end to end for the same inputs (exit code 2, no panic).
+//! parser is the crate `kimpact-scene`, as in the fuzz target; the command
+//! line is checked end to end for the same inputs (exit code 2, no panic).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-#[allow(dead_code)]
-#[path = "../src/scene.rs"]
-mod scene;
-
+use kimpact_scene as scene;
 use scene::{Scene, SceneError};
 
 const FORMATS: [&str; 3] = ["json", "ron", "toml"];

@@ -4,6 +4,8 @@
 //! Every error names the file and the field (`bodies[3].radius: must be > 0,
 //! got 0`), with line and column for parse errors. See `docs/scenes.md` for
 //! every key.
+#![warn(missing_docs)]
+#![forbid(unsafe_code)]
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::fmt;
