@@ -165,12 +165,27 @@ fn entries(dir: &Path) -> Vec<String> {
     v
 }
 
+/// Held while a test writes a script or runs a process: a process forked
+/// while another thread holds a script open for writing would keep it open
+/// ("text file busy" when the script is then run).
+static SPAWN: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 /// Run `exe` with `args`.
 fn run(exe: &Path, args: &[std::ffi::OsString]) -> Output {
+    let _spawn = SPAWN.lock().unwrap_or_else(|e| e.into_inner());
     Command::new(exe)
         .args(args)
         .output()
         .expect("kimpact-ladder starts")
+}
+
+/// Write the executable script `text` at `path`.
+#[cfg(unix)]
+fn write_script(path: &Path, text: &str) {
+    use std::os::unix::fs::PermissionsExt;
+    let _spawn = SPAWN.lock().unwrap_or_else(|e| e.into_inner());
+    std::fs::write(path, text).unwrap();
+    std::fs::set_permissions(path, std::fs::Permissions::from_mode(0o755)).unwrap();
 }
 
 /// Run the ladder with `--plot-only` on `files`.
@@ -369,6 +384,7 @@ fn lonely_ladder(dir: &Path) -> PathBuf {
     std::fs::create_dir_all(&bin).unwrap();
     let exe = bin.join(format!("kimpact-ladder{}", std::env::consts::EXE_SUFFIX));
     let src = Path::new(env!("CARGO_BIN_EXE_kimpact-ladder"));
+    let _spawn = SPAWN.lock().unwrap_or_else(|e| e.into_inner());
     if std::fs::hard_link(src, &exe).is_err() {
         std::fs::copy(src, &exe).unwrap();
     }
@@ -391,15 +407,13 @@ fn without_its_siblings_a_run_says_how_to_build_them() {
 #[cfg(unix)]
 #[test]
 fn a_failing_sibling_stops_the_run_naming_it() {
-    use std::os::unix::fs::PermissionsExt;
     let f = Files::new("failing", &bench_csv(|_, _| None), &summary());
     f.old_outputs();
     let exe = lonely_ladder(&f.dir);
     let bin = exe.parent().unwrap();
     for (name, code) in [("kimpact-bench", 3), ("kimpact-accuracy", 0)] {
         let path = bin.join(name);
-        std::fs::write(&path, format!("#!/bin/sh\nexit {code}\n")).unwrap();
-        std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
+        write_script(&path, &format!("#!/bin/sh\nexit {code}\n"));
     }
     let out = run(&exe, &f.args());
     assert!(!out.status.success());
@@ -413,7 +427,6 @@ fn a_failing_sibling_stops_the_run_naming_it() {
 #[cfg(unix)]
 #[test]
 fn a_run_passes_the_published_arguments_and_puts_the_bench_results_in_place() {
-    use std::os::unix::fs::PermissionsExt;
     // before the run, a CSV with a point left out; the fake bench writes
     // the full fixture
     let old = bench_csv(|scene, mode| {
@@ -435,8 +448,7 @@ fn a_run_passes_the_published_arguments_and_puts_the_bench_results_in_place() {
     );
     for (name, script) in [("kimpact-bench", bench), ("kimpact-accuracy", accuracy)] {
         let path = bin.join(name);
-        std::fs::write(&path, script).unwrap();
-        std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
+        write_script(&path, &script);
     }
     let scratch = f.dir.join("scratch");
     let mut args = f.args();
