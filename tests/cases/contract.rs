@@ -102,6 +102,64 @@ fn the_stages_give_the_same_bodies_as_step_bit_for_bit() {
     }
 }
 
+/// Drop every collider's `MODIFY_SOLVER_CONTACTS` flag: the world as if
+/// kimpact had never touched it.
+fn unhook(w: &mut TestWorld) {
+    let handles: Vec<ColliderHandle> = w.world.colliders.iter().map(|(h, _)| h).collect();
+    for h in handles {
+        let co = &mut w.world.colliders[h];
+        co.set_active_hooks(co.active_hooks() - ActiveHooks::MODIFY_SOLVER_CONTACTS);
+    }
+}
+
+#[test]
+fn switching_to_native_between_steps_hands_every_pair_back_to_rapier() {
+    for from in [Mode::Restitution, Mode::Impulse, Mode::Exact] {
+        let (mut a, balls) = stage_scene(from);
+        let (mut b, _) = stage_scene(from);
+        for _ in 0..60 {
+            a.step();
+            b.step();
+        }
+        assert_eq!(a.bits(&balls), b.bits(&balls), "{from}: same start");
+        assert!(a.kimpact.stats().impacts > 0, "{from}: the scene has impacts");
+        // a switches; b is stepped by rapier alone from the same state.
+        a.kimpact.set_mode(Mode::Native);
+        unhook(&mut b);
+        let impacts = a.kimpact.stats().impacts;
+        for step in 0..90 {
+            a.step();
+            b.world.step();
+            assert_eq!(a.bits(&balls), b.bits(&balls), "{from} → native, step {step}");
+        }
+        assert!(a.kimpact.events().is_empty(), "{from} → native");
+        assert_eq!(a.kimpact.stats().impacts, impacts, "{from} → native");
+    }
+}
+
+#[test]
+fn switching_from_native_between_steps_takes_the_next_impacts() {
+    for to in [Mode::Restitution, Mode::Impulse, Mode::Exact] {
+        let (mut w, balls) = stage_scene(Mode::Native);
+        for _ in 0..30 {
+            w.step();
+        }
+        assert_eq!(w.kimpact.stats().impacts, 0, "native reports nothing");
+        w.kimpact.set_mode(to);
+        for _ in 0..120 {
+            w.step();
+        }
+        assert!(w.kimpact.stats().impacts > 0, "native → {to}: impacts taken");
+        for &ball in &balls {
+            let (p, v) = (w.pos(ball), w.vel(ball));
+            assert!(k::math::is_finite(p) && k::math::is_finite(v), "native → {to}");
+            for axis in 0..DIM {
+                assert!(p[axis].abs() < 6.0, "native → {to}: a ball left the box: {p:?}");
+            }
+        }
+    }
+}
+
 #[test]
 fn after_step_without_before_step_is_an_error_and_changes_nothing() {
     let (mut w, balls) = stage_scene(Mode::Exact);
