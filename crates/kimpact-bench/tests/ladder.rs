@@ -173,8 +173,10 @@ static SPAWN: std::sync::Mutex<()> = std::sync::Mutex::new(());
 /// Run `exe` with `args`.
 fn run(exe: &Path, args: &[std::ffi::OsString]) -> Output {
     let _spawn = SPAWN.lock().unwrap_or_else(|e| e.into_inner());
+    // Not under cargo: a run would build the real siblings first.
     Command::new(exe)
         .args(args)
+        .env_remove("CARGO")
         .output()
         .expect("kimpact-ladder starts")
 }
@@ -482,4 +484,35 @@ fn a_run_passes_the_published_arguments_and_puts_the_bench_results_in_place() {
     assert_eq!(svg.matches("<circle").count(), 16);
     let md = std::fs::read_to_string(&f.md).unwrap();
     assert!(md.contains("written by `fake bench`"), "{md}");
+}
+
+#[cfg(unix)]
+#[test]
+fn under_cargo_a_run_builds_the_siblings_first() {
+    let f = Files::new("cargo", &bench_csv(|_, _| None), &summary());
+    f.old_outputs();
+    let exe = lonely_ladder(&f.dir);
+    let cargo = f.dir.join("fake-cargo");
+    let recorded = f.dir.join("cargo-args");
+    write_script(
+        &cargo,
+        &format!(
+            "#!/bin/sh\necho \"$@\" > '{}'\nexit 4\n",
+            recorded.display()
+        ),
+    );
+    let out = {
+        let _spawn = SPAWN.lock().unwrap_or_else(|e| e.into_inner());
+        Command::new(&exe)
+            .args(f.args())
+            .env("CARGO", &cargo)
+            .output()
+            .unwrap()
+    };
+    assert!(!out.status.success());
+    let e = stderr(&out);
+    assert!(e.contains("cargo build failed (exit status: 4)"), "{e}");
+    let args = std::fs::read_to_string(&recorded).unwrap();
+    assert_eq!(args.trim(), "build --release -p kimpact-bench --bins");
+    f.assert_old_outputs();
 }

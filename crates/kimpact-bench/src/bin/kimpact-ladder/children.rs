@@ -1,5 +1,5 @@
 //! Regenerating the ladder's inputs: the two sibling programs found beside
-//! this executable, `kimpact-bench` with the arguments of the published
+//! this executable (built first when it runs under `cargo run`), `kimpact-bench` with the arguments of the published
 //! run (*The run* of `docs/benchmarks.md`) into a scratch folder, then
 //! `kimpact-accuracy` into the summary's folder; the bench's `results.csv`
 //! and `results.md` are then copied over the ladder's `--bench-csv` and
@@ -101,6 +101,15 @@ pub fn regenerate(plan: &Plan) -> Result<(), LadderError> {
         return Err(LadderError::SummaryName {
             path: plan.accuracy_json.clone(),
         });
+    }
+    // Under `cargo run` (which builds only this program), the siblings are
+    // built first, so that they are never missing or stale.
+    if let Some(cargo) = std::env::var_os("CARGO") {
+        let args: Vec<OsString> = ["build", "--release", "-p", "kimpact-bench", "--bins"]
+            .iter()
+            .map(OsString::from)
+            .collect();
+        run("cargo build", Path::new(&cargo), &args)?;
     }
     let exe = std::env::current_exe().map_err(LadderError::CurrentExe)?;
     let dir = folder(&exe);
