@@ -80,6 +80,18 @@ fn kimpact_allocates_nothing_once_the_restitution_example_has_landed() {
 }
 
 #[test]
+fn kimpact_allocates_nothing_in_the_pinball_s_steady_state() {
+    // Balls rolling along the polyline table and struck by the flippers:
+    // the replay's casts against the table's segments start touching.
+    for mode in ["restitution", "impulse", "exact"] {
+        let (allocs, seen, own) = attribute("pinball", mode, 600, 300);
+        assert!(seen > 0, "{mode}: no allocation seen");
+        assert_eq!(seen, allocs, "{mode}: every allocation classified");
+        assert_eq!(own, 0, "{mode}: {own} of {seen} allocations are kimpact's");
+    }
+}
+
+#[test]
 fn reading_events_and_materials_allocate_nothing_in_kimpact() {
     // Two configurations of the effects table (the 1,000-ball 3D gas base,
     // each with one effect on): the user reading every impact event, and
