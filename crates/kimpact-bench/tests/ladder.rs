@@ -465,7 +465,10 @@ fn a_run_passes_the_published_arguments_and_puts_the_bench_results_in_place() {
     let read = |name: &str| std::fs::read_to_string(f.dir.join(name)).unwrap();
     assert_eq!(
         read("bench-args").trim(),
-        format!("--balls 1000 --out {}", scratch.display())
+        format!(
+            "--balls 1000 --memory-warmup 600 --out {}",
+            scratch.display()
+        )
     );
     assert_eq!(
         read("accuracy-args").trim(),

@@ -17,8 +17,10 @@ pub const BENCH: &str = "kimpact-bench";
 /// The accuracy study's program.
 pub const ACCURACY: &str = "kimpact-accuracy";
 /// The bench's arguments of *The run* in `docs/benchmarks.md`, the run
-/// `docs/bench/results.csv` comes from (its `--out` is the ladder's).
-pub const BENCH_ARGS: [&str; 2] = ["--balls", "1000"];
+/// `docs/bench/results.csv` comes from (its `--out` is the ladder's): the
+/// memory runs after 600 steps, in the steady state the allocation budget
+/// is about.
+pub const BENCH_ARGS: [&str; 4] = ["--balls", "1000", "--memory-warmup", "600"];
 /// The file name kimpact-accuracy gives its summary.
 pub const SUMMARY_NAME: &str = "accuracy-summary.json";
 /// The scratch folder of the bench's run, beside the executables, unless
