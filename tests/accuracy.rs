@@ -143,13 +143,18 @@ fn one_oblique_impact_in_every_mode_against_the_reference() {
 /// (c) Newton's cradle (five touching disks and a sixth arriving at speed
 /// 1, half a step into the fourth step; 30 steps), every mode against the
 /// reference: `exact` to 1e-9 (the reference passes the whole velocity to
-/// the last disk); the others are printed, and none may gain energy.
+/// the last disk); the others are printed, and none may gain energy; the
+/// restitution mode keeps at least what native rapier keeps (the same
+/// solver, with the law's restitution for every approaching contact).
 #[test]
 fn newtons_cradle_in_every_mode_against_the_reference() {
     let setup = cradle_setup::<2>(DT);
     let mut reference = RefSim::new(&setup).unwrap();
     reference.advance_to(30.0 * DT).unwrap();
     assert_eq!(reference.totals().ball_impacts, 5);
+    let native = short_run(&B2_F64, &setup, Method::Rapier(Mode::Native), 30.0 * DT)
+        .unwrap()
+        .kept;
     for mode in Mode::ALL {
         let s = short_run(&B2_F64, &setup, Method::Rapier(mode), 30.0 * DT).unwrap();
         let (dv, kept) = (s.dv, s.kept);
@@ -158,6 +163,12 @@ fn newtons_cradle_in_every_mode_against_the_reference() {
         assert!(kept <= 1.0 + 1e-9, "{mode}: energy rose to {kept}");
         if mode == Mode::Exact {
             assert!(dv < 1e-9, "exact: velocity error {dv:e}");
+        }
+        if mode == Mode::Restitution {
+            assert!(
+                kept >= native - 1e-9,
+                "restitution keeps {kept}, native {native}"
+            );
         }
     }
 }
