@@ -117,10 +117,15 @@ pub fn regenerate(plan: &Plan) -> Result<(), LadderError> {
     let dir = folder(&exe);
     let bench = sibling(&dir, BENCH)?;
     let accuracy = sibling(&dir, ACCURACY)?;
-    let scratch = plan
-        .bench_out
-        .clone()
-        .unwrap_or_else(|| dir.join(BENCH_SCRATCH));
+    // Relative to the working folder when inside it: the bench records its
+    // command line in results.md, which the docs quote.
+    let scratch = plan.bench_out.clone().unwrap_or_else(|| {
+        let scratch = dir.join(BENCH_SCRATCH);
+        std::env::current_dir()
+            .ok()
+            .and_then(|cwd| scratch.strip_prefix(cwd).ok().map(Path::to_path_buf))
+            .unwrap_or(scratch)
+    });
 
     let mut args: Vec<OsString> = BENCH_ARGS.iter().map(OsString::from).collect();
     args.extend(["--out".into(), scratch.clone().into_os_string()]);
