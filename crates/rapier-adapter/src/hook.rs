@@ -162,51 +162,44 @@ impl PhysicsHooks for StepHooks<'_> {
             *rigid.restitution = 0.0;
             return;
         }
-        if !fresh {
-            // A contact rapier has been carrying that still approaches (a
-            // ball pressed on by a third in a cluster): in restitution mode
-            // it bounces by the law, as rapier's own coefficient bounces it
-            // in native mode (with no bounce, an elastic gas lost its
-            // energy faster than native rapier); not reported, it is not a
-            // new impact. The replay's pairs leave it to rapier unbounced.
-            *rigid.restitution = 0.0;
-            if self.mode == Mode::Restitution && !by_replay {
-                let tangential = (w + n * approach).length();
-                let law = self.marks.law(self.law, c1, c2);
-                if let Ok(Some(r)) = law.restitution(b1.mass, b2.mass, approach, tangential) {
-                    *rigid.restitution = r.coefficient;
-                }
-            }
-            return;
-        }
         if by_replay {
-            // rapier leaves the pair alone this step; kimpact resolves it
-            // after the step.
-            rigid.solver_contacts.clear();
-            self.record(context, n, point, dist, b1, b2, true);
+            if fresh {
+                // rapier leaves the pair alone this step; kimpact resolves
+                // it after the step.
+                rigid.solver_contacts.clear();
+                self.record(context, n, point, dist, b1, b2, true);
+            } else {
+                // A contact rapier has been carrying: rapier's, unbounced.
+                *rigid.restitution = 0.0;
+            }
             return;
         }
-        match self.mode {
-            Mode::Restitution => {
-                let tangential = (w + n * approach).length();
-                let law = self.marks.law(self.law, c1, c2);
-                match law.restitution(b1.mass, b2.mass, approach, tangential) {
-                    Ok(Some(r)) => {
-                        *rigid.restitution = r.coefficient;
-                        // Kept for the report if the bodies can meet within
-                        // the step; reported if rapier's contact then carried
-                        // an impulse (a speculative contact further away gets
-                        // none, and stays fresh for the next step).
-                        if dist <= reach * 1.01 + Real::EPSILON {
-                            self.record(context, n, point, dist, b1, b2, false);
-                        }
-                    }
-                    // Invalid masses (a NaN mass reached rapier): no bounce,
-                    // and the post-step pass reports it.
-                    _ => *rigid.restitution = 0.0,
+        // Here the mode is Restitution (native returned first; impulse and
+        // exact pairs are all the replay's).
+        if self.mode != Mode::Restitution {
+            return;
+        }
+        let tangential = (w + n * approach).length();
+        let law = self.marks.law(self.law, c1, c2);
+        match law.restitution(b1.mass, b2.mass, approach, tangential) {
+            Ok(Some(r)) => {
+                // A carried contact that still approaches (a ball pressed on
+                // by a third in a cluster) bounces by the law too, as rapier's
+                // own coefficient bounces it in native mode (with no bounce,
+                // an elastic gas lost its energy faster than native rapier);
+                // it is not a new impact, and not reported.
+                *rigid.restitution = r.coefficient;
+                // A fresh one is kept for the report if the bodies can meet
+                // within the step; reported if rapier's contact then carried
+                // an impulse (a speculative contact further away gets none,
+                // and stays fresh for the next step).
+                if fresh && dist <= reach * 1.01 + Real::EPSILON {
+                    self.record(context, n, point, dist, b1, b2, false);
                 }
             }
-            Mode::Native | Mode::Impulse | Mode::Exact => {}
+            // Invalid masses (a NaN mass reached rapier): no bounce, and the
+            // post-step pass reports it.
+            _ => *rigid.restitution = 0.0,
         }
     }
 }
