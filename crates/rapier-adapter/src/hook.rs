@@ -70,6 +70,25 @@ impl PhysicsHooks for StepHooks<'_> {
         if self.user_flagged(context.colliders, c1) || self.user_flagged(context.colliders, c2) {
             self.user.modify_solver_contacts(context);
         }
+        self.respond(context);
+        // What rapier's `has_any_active_contact` will say of the pair, for
+        // the next step's graze test (a soft pair counts as touching).
+        let touching = match &context.contacts {
+            ModifiableContacts::Rigid(rigid) => !rigid.solver_contacts.is_empty(),
+            ModifiableContacts::Soft(_) => true,
+        };
+        if touching {
+            self.prepare.touch(c1);
+            self.prepare.touch(c2);
+        }
+    }
+}
+
+impl StepHooks<'_> {
+    /// kimpact's response to one pair the hook sees: the law's, rapier's
+    /// unbounced, or none (the replay's, or a graze).
+    fn respond(&self, context: &mut ContactModificationContext) {
+        let (c1, c2) = (context.collider1, context.collider2);
         let Some(frame) = self.frame else {
             return;
         };
@@ -202,9 +221,7 @@ impl PhysicsHooks for StepHooks<'_> {
             _ => *rigid.restitution = 0.0,
         }
     }
-}
 
-impl StepHooks<'_> {
     /// Whether colliders `c1` and `c2` meet within this step on the straight
     /// paths rapier is about to integrate (velocity plus gravity), by a
     /// linear cast (closed form for two balls and for a ball and a cuboid,

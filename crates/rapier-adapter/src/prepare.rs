@@ -6,12 +6,19 @@
 //! `ActiveHooks::MODIFY_SOLVER_CONTACTS`: bodies faster than half the rest
 //! speed (and, with calm neighbourhoods, not moving with every partner
 //! they could touch; see the `calm` module).
+//!
+//! Everything stage 1 learns of a flagged collider (whether it touches
+//! something, whether restitution hands it to the replay, whether its body's
+//! sleep timer must restart) is learnt while flagging it, in the one pass
+//! over the awake bodies: no second walk over the flagged colliders.
+
+use std::sync::atomic::{AtomicU32, Ordering};
 
 use crate::body_view::{Starts, half_size, path_velocity};
 use crate::calm::{Calm, Frame};
 use crate::frame::StepFrame;
 use crate::marks::Marks;
-use crate::math::{Real, Vector};
+use crate::math::Real;
 use crate::mode::Mode;
 use crate::rapier::prelude::*;
 
@@ -21,11 +28,40 @@ pub(crate) struct PrepareInput<'a> {
     pub islands: &'a IslandManager,
     pub bodies: &'a RigidBodySet,
     pub broad_phase: &'a BroadPhaseBvh,
+    pub narrow_phase: &'a NarrowPhase,
     pub frame: StepFrame,
     pub marks: &'a Marks,
     pub mode: Mode,
     pub fixed_partners: bool,
     pub calm_neighbourhoods: bool,
+    pub keep_moving_awake: bool,
+}
+
+/// What [`Prepare::flag`] needs of the step beyond the body: where to look
+/// for its contacts and how it is judged swept or to be kept awake.
+#[derive(Copy, Clone)]
+struct FlagStep<'a> {
+    narrow_phase: &'a NarrowPhase,
+    marks: &'a Marks,
+    frame: StepFrame,
+    /// Half the rest speed: a body faster than this may start an impact.
+    threshold: Real,
+    /// Restitution mode: the swept and crowded colliders are noted.
+    restitution: bool,
+    keep_moving_awake: bool,
+}
+
+impl<'a> FlagStep<'a> {
+    fn new(input: &PrepareInput<'a>) -> Self {
+        Self {
+            narrow_phase: input.narrow_phase,
+            marks: input.marks,
+            frame: input.frame,
+            threshold: 0.5 * input.frame.rest_speed,
+            restitution: input.mode == Mode::Restitution,
+            keep_moving_awake: input.keep_moving_awake,
+        }
+    }
 }
 
 /// The hook flags kimpact keeps between steps, and the start of the step.
@@ -45,10 +81,17 @@ pub(crate) struct Prepare {
     /// Per collider index: the step (`epoch`) at which it was last flagged.
     seen: Vec<u32>,
     /// Per collider index: the step (`epoch`) at which it was flagged while
-    /// touching something (see [`Prepare::find_crowded`]).
+    /// touching something (see [`Prepare::is_crowded`]).
     crowded: Vec<u32>,
+    /// Per collider index: the step (`epoch`) at which kimpact's hook left
+    /// one of its pairs with solver contacts (see [`Prepare::touch`]), sized
+    /// by `flag` to cover the flagged colliders.
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    touched: Vec<AtomicU32>,
+    /// The `epoch` of the step before this one.
+    last_epoch: u32,
     /// Restitution mode: the flagged colliders whose bodies move more than
-    /// a quarter of their size this step ([`Prepare::find_swept`]).
+    /// a quarter of their size this step (see [`Prepare::is_swept`]).
     pub swept: Vec<ColliderHandle>,
     /// Per collider index: the step (`epoch`) at which it was last swept.
     swept_at: Vec<u32>,
@@ -63,6 +106,11 @@ pub(crate) struct Prepare {
     /// Per body index: start-of-step translation (every law mode).
     #[cfg_attr(feature = "serde-serialize", serde(skip))]
     pub starts: Starts,
+    /// Flagged bodies whose sleep timer runs while they move faster than
+    /// the rest speed (`Config::keep_moving_awake`): woken by
+    /// [`Prepare::wake_moving`].
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    to_wake: Vec<RigidBodyHandle>,
     /// Calm neighbourhoods (`Config::calm_neighbourhoods`).
     calm: Calm,
     /// This step's `Config::fixed_partners`: whether a moving kinematic
@@ -89,21 +137,22 @@ impl Prepare {
         let PrepareInput {
             islands,
             bodies,
-            marks,
             mode,
             ..
         } = *input;
-        let rest_speed = input.frame.rest_speed;
+        let step = FlagStep::new(input);
         self.partners = input.fixed_partners;
         let mut calm_bodies = 0;
+        self.last_epoch = self.epoch;
         self.epoch = self.epoch.wrapping_add(1).max(1);
         std::mem::swap(&mut self.previous, &mut self.flagged);
         self.flagged.clear();
+        self.swept.clear();
+        self.to_wake.clear();
         if mode != Mode::Native {
-            let threshold = 0.5 * rest_speed;
-            let replays = crate::mode::replays(mode);
+            let threshold = step.threshold;
             let fast = if input.calm_neighbourhoods && self.calm.wanted() {
-                let (fast, calm) = self.prepare_calm(input, colliders);
+                let (fast, calm) = self.prepare_calm(input, &step, colliders);
                 calm_bodies = calm;
                 fast
             } else {
@@ -111,8 +160,8 @@ impl Prepare {
                 // the velocity of a slow body (a body's data spans several
                 // cache lines, and this read is a cache miss per body in a
                 // large scene; a loop without calls lets the processor
-                // overlap them) and, in exact mode, its start (it may join a
-                // chain: stored whether or not it has a marked collider; a
+                // overlap them) and its start (it may join a chain in the
+                // replay: stored whether or not it has a marked collider; a
                 // kinematic body's start is never read). A fast body gets
                 // the rest at once, while its lines are in the cache (a
                 // second pass over the fast bodies missed them again in a
@@ -124,8 +173,8 @@ impl Prepare {
                     };
                     if rb.linvel().length_squared() > threshold * threshold {
                         fast += usize::from(rb.is_dynamic());
-                        self.prepare_rb(handle, rb, colliders, marks, mode, threshold);
-                    } else if replays {
+                        self.prepare_rb(handle, rb, colliders, &step);
+                    } else {
                         self.starts.store(handle, rb.translation());
                     }
                 }
@@ -136,14 +185,14 @@ impl Prepare {
             let mut pending = std::mem::take(&mut self.pending);
             for &ch in &pending {
                 if let Some(handle) = colliders.get(ch).and_then(|co| co.parent()) {
-                    self.prepare_body(handle, bodies, colliders, marks, mode, threshold);
+                    self.prepare_body(handle, bodies, colliders, &step);
                 }
             }
             pending.clear();
             self.pending = pending;
             let mut woken = std::mem::take(&mut self.woken);
             for &handle in &woken {
-                self.prepare_body(handle, bodies, colliders, marks, mode, threshold);
+                self.prepare_body(handle, bodies, colliders, &step);
             }
             woken.clear();
             self.woken = woken;
@@ -170,101 +219,52 @@ impl Prepare {
         calm_bodies
     }
 
-    /// Restitution mode: note which flagged colliders' bodies move more
-    /// than a quarter of the collider's size this step: two balls slower
-    /// than that close by at most a radius per step, so rapier's contacts
-    /// never let one sink a radius into the other, where a faster ball can
-    /// sink deeper, cross a partner or leave its box between two of
-    /// rapier's contacts. The replay sweeps them after the step, and the hook leaves their pairs
-    /// to it ([`Prepare::is_swept`]). Reads only the flagged colliders;
-    /// allocates nothing in steady state.
-    pub(crate) fn find_swept(
-        &mut self,
-        bodies: &RigidBodySet,
-        colliders: &ColliderSet,
-        gravity_dt: Vector,
-        dt: Real,
-    ) {
-        self.swept.clear();
-        for &ch in &self.flagged {
-            let Some(co) = colliders.get(ch) else {
-                continue;
-            };
-            let Some(rb) = co.parent().and_then(|h| bodies.get(h)) else {
-                continue;
-            };
-            if !rb.is_dynamic() {
-                continue;
-            }
-            let half = half_size(co);
-            // A NaN velocity is not swept (the hook's guard cuts it off).
-            if (path_velocity(rb, gravity_dt) * dt).length() > 0.5 * half {
-                let index = ch.into_raw_parts().0 as usize;
-                if self.swept_at.len() <= index {
-                    self.swept_at.resize(index + 1, 0);
-                }
-                self.swept_at[index] = self.epoch;
-                self.swept.push(ch);
-            }
-        }
-    }
-
-    /// Whether collider `ch` is one of this step's swept colliders
-    /// ([`Prepare::find_swept`]).
+    /// Whether collider `ch` is one of this step's swept colliders: in
+    /// restitution mode, a flagged collider whose body moves more than a
+    /// quarter of the collider's size this step. Two balls slower than that
+    /// close by at most a radius per step, so rapier's contacts never let
+    /// one sink a radius into the other, where a faster ball can sink
+    /// deeper, cross a partner or leave its box between two of rapier's
+    /// contacts. The replay sweeps them after the step, and the hook leaves
+    /// their pairs to it.
     pub(crate) fn is_swept(&self, ch: ColliderHandle) -> bool {
         let index = ch.into_raw_parts().0 as usize;
         self.swept_at.get(index) == Some(&self.epoch)
     }
 
-    /// Note which flagged colliders touch something (an active contact in
-    /// rapier's narrow phase of the last step): rapier's solver may push
-    /// their bodies off the straight path the hook would judge a graze on
-    /// (see [`Prepare::is_crowded`]). Reads only the flagged colliders'
-    /// contacts; allocates nothing in steady state.
-    pub(crate) fn find_crowded(&mut self, narrow_phase: &NarrowPhase) {
-        for &ch in &self.flagged {
-            if narrow_phase
-                .contact_pairs_with(ch)
-                .any(|cp| cp.has_any_active_contact())
-            {
-                let index = ch.into_raw_parts().0 as usize;
-                if self.crowded.len() <= index {
-                    self.crowded.resize(index + 1, 0);
-                }
-                self.crowded[index] = self.epoch;
-            }
-        }
-    }
-
     /// Whether flagged collider `ch` touched something at the start of this
-    /// step ([`Prepare::find_crowded`]).
+    /// step (in restitution mode): one of its pairs had solver contacts in
+    /// rapier's last step, so rapier's solver may push its body off the
+    /// straight path the hook would judge a graze on. For a collider
+    /// flagged in the last step too, kimpact's hook saw every one of its
+    /// pairs then ([`Prepare::touch`]); for one flagged afresh, its
+    /// contact pairs in the narrow phase are read.
     pub(crate) fn is_crowded(&self, ch: ColliderHandle) -> bool {
         let index = ch.into_raw_parts().0 as usize;
         self.crowded.get(index) == Some(&self.epoch)
     }
 
+    /// Called by kimpact's hook for each collider of a pair it leaves with
+    /// solver contacts (rapier's `ContactPair::has_any_active_contact`):
+    /// the next step's [`Prepare::is_crowded`] reads it. Lock-free, so that
+    /// the hook stays `Sync`.
+    pub(crate) fn touch(&self, ch: ColliderHandle) {
+        let index = ch.into_raw_parts().0 as usize;
+        if let Some(t) = self.touched.get(index) {
+            t.store(self.epoch, Ordering::Relaxed);
+        }
+    }
+
     /// Restart the sleep timer (rapier's `wake_up(true)`) of every body
     /// flagged this step that moves faster than `rest_speed` and whose
-    /// timer runs, so that rapier never puts a marked body to sleep (and
-    /// zeroes its velocity) while it moves faster than the rest speed. A
-    /// body at rest (a settled pile) is never flagged and sleeps as rapier
-    /// lets it. Reads only the flagged bodies; allocates nothing.
-    pub(crate) fn wake_moving(
-        &self,
-        bodies: &mut RigidBodySet,
-        colliders: &ColliderSet,
-        rest_speed: Real,
-    ) {
-        for &ch in &self.flagged {
-            let Some(handle) = colliders.get(ch).and_then(|co| co.parent()) else {
-                continue;
-            };
-            let runs = bodies.get(handle).is_some_and(|rb| {
-                rb.is_dynamic()
-                    && rb.activation().time_since_can_sleep > 0.0
-                    && rb.linvel().length_squared() > rest_speed * rest_speed
-            });
-            if runs && let Some(rb) = bodies.get_mut(handle) {
+    /// timer runs (noted while flagging, with `Config::keep_moving_awake`),
+    /// so that rapier never puts a marked body to sleep (and zeroes its
+    /// velocity) while it moves faster than the rest speed. A body at rest
+    /// (a settled pile) is never flagged and sleeps as rapier lets it.
+    /// Reads only those bodies; allocates nothing in steady state.
+    pub(crate) fn wake_moving(&self, bodies: &mut RigidBodySet) {
+        for &handle in &self.to_wake {
+            if let Some(rb) = bodies.get_mut(handle) {
                 rb.wake_up(true);
             }
         }
@@ -277,30 +277,27 @@ impl Prepare {
         handle: RigidBodyHandle,
         bodies: &RigidBodySet,
         colliders: &mut ColliderSet,
-        marks: &Marks,
-        mode: Mode,
-        threshold: Real,
+        step: &FlagStep,
     ) {
         if let Some(rb) = bodies.get(handle) {
-            self.prepare_rb(handle, rb, colliders, marks, mode, threshold);
+            self.prepare_rb(handle, rb, colliders, step);
         }
     }
 
-    /// [`Kimpact::prepare_body`] with the body at hand.
+    /// [`Prepare::prepare_body`] with the body at hand.
     fn prepare_rb(
         &mut self,
         handle: RigidBodyHandle,
         rb: &RigidBody,
         colliders: &mut ColliderSet,
-        marks: &Marks,
-        mode: Mode,
-        threshold: Real,
+        step: &FlagStep,
     ) {
+        let threshold = step.threshold;
         if !rb.is_dynamic() {
             // A kinematic body faster than the threshold may strike a
             // marked body at rest, which is not flagged.
             if rb.is_kinematic() && rb.linvel().length_squared() > threshold * threshold {
-                self.flag(rb, colliders, marks);
+                self.flag(handle, rb, colliders, step);
             }
             return;
         }
@@ -308,11 +305,11 @@ impl Prepare {
             return;
         }
         let any_marked = if rb.linvel().length_squared() > threshold * threshold {
-            self.flag(rb, colliders, marks)
+            self.flag(handle, rb, colliders, step)
         } else {
-            rb.colliders().iter().any(|&ch| marks.contains(ch))
+            rb.colliders().iter().any(|&ch| step.marks.contains(ch))
         };
-        if any_marked && crate::mode::replays(mode) {
+        if any_marked {
             self.starts.store(handle, rb.translation());
         }
     }
@@ -321,7 +318,12 @@ impl Prepare {
     /// module): every awake body is taken (its start stored),
     /// judged, and a fast body flagged unless calm. The number of fast
     /// bodies and the number left calm.
-    fn prepare_calm(&mut self, input: &PrepareInput, colliders: &mut ColliderSet) -> (usize, u64) {
+    fn prepare_calm(
+        &mut self,
+        input: &PrepareInput,
+        step: &FlagStep,
+        colliders: &mut ColliderSet,
+    ) -> (usize, u64) {
         let PrepareInput {
             islands,
             bodies,
@@ -335,12 +337,10 @@ impl Prepare {
                     ..
                 },
             marks,
-            mode,
             fixed_partners,
             ..
         } = *input;
-        let threshold = 0.5 * rest_speed;
-        let replays = crate::mode::replays(mode);
+        let threshold = step.threshold;
         let mut calm = std::mem::take(&mut self.calm);
         calm.begin();
         let judged = {
@@ -359,9 +359,7 @@ impl Prepare {
                     continue;
                 };
                 let is_fast = rb.linvel().length_squared() > threshold * threshold;
-                if replays {
-                    self.starts.store(handle, rb.translation());
-                }
+                self.starts.store(handle, rb.translation());
                 calm.take(&frame, handle, rb, is_fast);
             }
             calm.judge(&frame, rest_speed)
@@ -372,7 +370,7 @@ impl Prepare {
                 && !t.calm
                 && let Some(rb) = bodies.get(t.handle)
             {
-                self.flag(rb, colliders, marks);
+                self.flag(t.handle, rb, colliders, step);
             }
         }
         calm.settle(&judged);
@@ -380,18 +378,31 @@ impl Prepare {
         (fast, judged.calm as u64)
     }
 
-    /// Set the hook flag on the marked colliders of `rb` (leaving a flag the
-    /// user set alone); whether it has any marked collider. A kinematic
-    /// body's colliders are all flagged with `Config::fixed_partners` (they
-    /// meet marked colliders by the law, marked or not).
-    pub(crate) fn flag(
+    /// Set the hook flag on the marked colliders of body `handle`, `rb`
+    /// (leaving a flag the user set alone); whether it has any marked
+    /// collider. A kinematic body's colliders are all flagged with
+    /// `Config::fixed_partners` (they meet marked colliders by the law,
+    /// marked or not). Notes, for each collider flagged, whether it is swept
+    /// or crowded (restitution mode), and whether the body's sleep timer
+    /// must restart.
+    fn flag(
         &mut self,
+        handle: RigidBodyHandle,
         rb: &RigidBody,
         colliders: &mut ColliderSet,
-        marks: &Marks,
+        step: &FlagStep,
     ) -> bool {
+        let marks = step.marks;
         let mut any_marked = false;
+        let mut flagged = false;
         let partner = self.partners && rb.is_kinematic();
+        // How far the body moves this step (restitution mode's swept test;
+        // a NaN is not swept: the hook's guard cuts it off).
+        let travel = if step.restitution && rb.is_dynamic() {
+            (path_velocity(rb, step.frame.gravity_dt()) * step.frame.dt).length()
+        } else {
+            0.0
+        };
         for &ch in rb.colliders() {
             // An extended collider on a dynamic body is rapier's (see
             // `Marks::governs`): no hook for it.
@@ -407,31 +418,84 @@ impl Prepare {
             if self.seen[index] == self.epoch {
                 continue; // flagged already this step
             }
-            if self.ours.get(index).copied().unwrap_or(false) {
-                // Ours since last step: keep it, untouched.
-                self.seen[index] = self.epoch;
-                self.flagged.push(ch);
-                continue;
+            let carried = self.ours.get(index).copied().unwrap_or(false);
+            if !carried {
+                let Some(co) = colliders.get(ch) else {
+                    continue;
+                };
+                if co
+                    .active_hooks()
+                    .contains(ActiveHooks::MODIFY_SOLVER_CONTACTS)
+                {
+                    continue; // the user's own flag: the hook runs anyway
+                }
+                if let Some(co) = colliders.get_mut(ch) {
+                    co.set_active_hooks(co.active_hooks() | ActiveHooks::MODIFY_SOLVER_CONTACTS);
+                }
+                if self.ours.len() <= index {
+                    self.ours.resize(index + 1, false);
+                }
+                self.ours[index] = true;
             }
-            let Some(co) = colliders.get(ch) else {
-                continue;
-            };
-            if co
-                .active_hooks()
-                .contains(ActiveHooks::MODIFY_SOLVER_CONTACTS)
-            {
-                continue; // the user's own flag: the hook runs anyway
-            }
-            if let Some(co) = colliders.get_mut(ch) {
-                co.set_active_hooks(co.active_hooks() | ActiveHooks::MODIFY_SOLVER_CONTACTS);
-            }
-            if self.ours.len() <= index {
-                self.ours.resize(index + 1, false);
-            }
-            self.ours[index] = true;
+            // Ours since last step (`carried`): kept, untouched.
             self.seen[index] = self.epoch;
             self.flagged.push(ch);
+            flagged = true;
+            if self.touched.len() <= index {
+                self.touched.resize_with(index + 1, || AtomicU32::new(0));
+            }
+            if step.restitution {
+                self.note_restitution(ch, index, carried, travel, colliders, step.narrow_phase);
+            }
+        }
+        if flagged
+            && step.keep_moving_awake
+            && rb.is_dynamic()
+            && rb.activation().time_since_can_sleep > 0.0
+            && rb.linvel().length_squared() > step.frame.rest_speed * step.frame.rest_speed
+        {
+            self.to_wake.push(handle);
         }
         any_marked
+    }
+
+    /// Restitution mode, for collider `ch` (index `index`) just flagged:
+    /// whether it is crowded (see [`Prepare::is_crowded`]; `carried`: it was
+    /// flagged last step too) and whether its body's `travel` this step
+    /// makes it swept ([`Prepare::is_swept`]).
+    fn note_restitution(
+        &mut self,
+        ch: ColliderHandle,
+        index: usize,
+        carried: bool,
+        travel: Real,
+        colliders: &ColliderSet,
+        narrow_phase: &NarrowPhase,
+    ) {
+        let seen_by_hook = carried && self.last_epoch != 0;
+        let crowded = if seen_by_hook {
+            self.touched[index].load(Ordering::Relaxed) == self.last_epoch
+        } else {
+            narrow_phase
+                .contact_pairs_with(ch)
+                .any(|cp| cp.has_any_active_contact())
+        };
+        if crowded {
+            if self.crowded.len() <= index {
+                self.crowded.resize(index + 1, 0);
+            }
+            self.crowded[index] = self.epoch;
+        }
+        if travel > 0.0
+            && colliders
+                .get(ch)
+                .is_some_and(|co| travel > 0.5 * half_size(co))
+        {
+            if self.swept_at.len() <= index {
+                self.swept_at.resize(index + 1, 0);
+            }
+            self.swept_at[index] = self.epoch;
+            self.swept.push(ch);
+        }
     }
 }

@@ -394,23 +394,16 @@ impl Kimpact {
             islands,
             bodies,
             broad_phase,
+            narrow_phase,
             frame,
             marks: &self.marks,
             mode,
             fixed_partners: self.config.fixed_partners,
             calm_neighbourhoods: self.config.calm_neighbourhoods,
+            keep_moving_awake: self.config.keep_moving_awake,
         };
         self.log.stats.calm_bodies += self.prepare.run(&input, colliders);
-        if self.config.keep_moving_awake && mode != Mode::Native {
-            self.prepare
-                .wake_moving(bodies, colliders, frame.rest_speed);
-        }
-        if mode == Mode::Restitution {
-            // The hook's graze test, and the bodies the replay takes over.
-            self.prepare.find_crowded(narrow_phase);
-            self.prepare
-                .find_swept(bodies, colliders, frame.gravity_dt(), frame.dt);
-        }
+        self.prepare.wake_moving(bodies);
         let _ = (impulse_joints, multibody_joints, hooks);
         self.prepared = Some(Prepared { frame, mode });
     }
@@ -552,5 +545,112 @@ impl Kimpact {
     #[doc(hidden)]
     pub fn set_per_body_sweep(&mut self, on: bool) {
         self.replay.per_body_sweep = on;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::DIM;
+    use crate::test_rng::TestRng;
+
+    /// The graze test's crowding, which the hook records for the colliders
+    /// flagged in the last step too, says what the narrow phase says
+    /// (`ContactPair::has_any_active_contact`) for every collider flagged in
+    /// every step of a pit whose balls land on a floor and on each other
+    /// (restitution mode, rapier's default activation).
+    #[test]
+    fn the_hook_s_record_of_touching_colliders_matches_the_narrow_phase() {
+        let mut world = PhysicsWorld::default();
+        let law = Law::from_restitution(0.5, 0.5).expect("valid restitutions");
+        let mut kimpact = Kimpact::new(law, Mode::Restitution);
+        let floor = world.bodies.insert(RigidBodyBuilder::fixed());
+        #[cfg(feature = "dim2")]
+        let shape = ColliderBuilder::cuboid(6.0, 0.5);
+        #[cfg(feature = "dim3")]
+        let shape = ColliderBuilder::cuboid(6.0, 0.5, 6.0);
+        world
+            .colliders
+            .insert_with_parent(shape, floor, &mut world.bodies);
+        let mut rng = TestRng::new(11);
+        let count = if DIM == 2 { 60 } else { 120 };
+        for _ in 0..count {
+            let mut p = Vector::ZERO;
+            for k in 0..DIM {
+                p[k] = 10.0 * rng.next() - 5.0;
+            }
+            p[1] = 1.5 + 12.0 * rng.next();
+            let body = world
+                .bodies
+                .insert(RigidBodyBuilder::dynamic().translation(p));
+            let ball = world.colliders.insert_with_parent(
+                ColliderBuilder::ball(0.4),
+                body,
+                &mut world.bodies,
+            );
+            kimpact.mark(&world.colliders, ball).expect("inserted");
+        }
+        let (mut carried_crowded, mut carried_free, mut fresh) = (0, 0, 0);
+        for _ in 0..240 {
+            let seen_last: Vec<bool> = kimpact.prepare.ours.clone();
+            kimpact.before_step(
+                world.gravity,
+                &world.integration_parameters,
+                &world.islands,
+                &world.broad_phase,
+                &world.narrow_phase,
+                &mut world.bodies,
+                &mut world.colliders,
+                &world.impulse_joints,
+                &world.multibody_joints,
+                &(),
+            );
+            for &ch in &kimpact.prepare.flagged {
+                let touching = world
+                    .narrow_phase
+                    .contact_pairs_with(ch)
+                    .any(|cp| cp.has_any_active_contact());
+                assert_eq!(kimpact.prepare.is_crowded(ch), touching, "collider {ch:?}");
+                let index = ch.into_raw_parts().0 as usize;
+                match (seen_last.get(index).copied().unwrap_or(false), touching) {
+                    (true, true) => carried_crowded += 1,
+                    (true, false) => carried_free += 1,
+                    (false, _) => fresh += 1,
+                }
+            }
+            world.physics_pipeline.step(
+                world.gravity,
+                &world.integration_parameters,
+                &mut world.islands,
+                &mut world.broad_phase,
+                &mut world.narrow_phase,
+                &mut world.bodies,
+                &mut world.colliders,
+                &mut world.impulse_joints,
+                &mut world.multibody_joints,
+                &mut world.soft_bodies,
+                &mut world.ccd_solver,
+                &kimpact.hooks(&()),
+                &(),
+            );
+            kimpact
+                .after_step(
+                    &world.narrow_phase,
+                    &world.broad_phase,
+                    &mut world.bodies,
+                    &world.colliders,
+                    &world.impulse_joints,
+                    &world.multibody_joints,
+                    &(),
+                )
+                .expect("prepared");
+        }
+        // The test saw both answers from the hook's record, and fresh flags.
+        assert!(
+            carried_crowded > 100,
+            "{carried_crowded} carried and crowded"
+        );
+        assert!(carried_free > 100, "{carried_free} carried and free");
+        assert!(fresh > 0);
     }
 }

@@ -478,7 +478,7 @@ impl Replay {
         // mode. Impulse mode sweeps only what could tunnel: a pair rapier
         // did not reach is first seen overlapping next step, and rewound.
         // Restitution mode hands over only the bodies that move more than
-        // a quarter of their size (`Prepare::find_swept`): each is swept.
+        // a quarter of their size (`Prepare::is_swept`): each is swept.
         self.sweep_reach = match mode {
             Mode::Exact => 0.5 * prediction,
             Mode::Impulse => Real::INFINITY,
