@@ -24,10 +24,11 @@
 //! those of bodies that move more than half their size per step (swept, as
 //! they can cross a partner unseen). Exact mode also sweeps every body that
 //! moves more than half rapier's prediction distance, which can meet a
-//! partner rapier's contacts did not reach yet; impulse mode leaves such a
-//! pair to the next step, where rapier first sees it overlapping and the
-//! replay rewinds it (a graze that begins and ends within the step is
-//! missed).
+//! partner rapier's contacts did not reach yet; impulse mode does so only
+//! for a body that falls (moves along gravity: a landing on a pile at
+//! rest), and leaves any other such pair to the next step, where rapier
+//! first sees it overlapping and the replay rewinds it (a graze that
+//! begins and ends within the step is missed).
 //!
 //! Restitution mode hands the replay only the bodies that move more than
 //! a quarter of their size per step (and their pairs, which rapier's solver then
@@ -244,6 +245,9 @@ pub(crate) struct Replay {
     /// How far a body must move this step (besides more than half its
     /// size) to be swept for partners: see [`Replay::run`].
     sweep_reach: Real,
+    /// `sweep_reach` for a body that falls (moves along gravity): see
+    /// [`Replay::run`].
+    fall_reach: Real,
     nodes: Vec<Node>,
     /// The dynamic nodes whose path the law bent this run, in the order of
     /// their first impact (the write-back walks these, not every node).
@@ -479,10 +483,19 @@ impl Replay {
         // did not reach is first seen overlapping next step, and rewound.
         // Restitution mode hands over only the bodies that move more than
         // a quarter of their size (`Prepare::is_swept`): each is swept.
+        // Impulse mode sweeps a falling body as exact mode does: it lands
+        // on partners at rest, and a landing rapier first sees overlapping
+        // the pile costs rapier's narrow phase more, at every step of the
+        // landing, than the sweep costs (a gas has no gravity: nothing
+        // falls).
         self.sweep_reach = match mode {
             Mode::Exact => 0.5 * prediction,
             Mode::Impulse => Real::INFINITY,
             Mode::Native | Mode::Restitution => 0.0,
+        };
+        self.fall_reach = match mode {
+            Mode::Impulse => 0.5 * prediction,
+            _ => self.sweep_reach,
         };
         for j in 0..input.candidates.len() {
             let c: Candidate = input.candidates[j];

@@ -55,7 +55,8 @@ impl Replay {
 
     /// The box collider `ch` of node `n` sweeps from `from` to the end of the
     /// step, if it moves far enough over that time to be swept (more than
-    /// half its size, or more than `sweep_reach`); with it, the collider's
+    /// half its size, or more than `sweep_reach`, `fall_reach` if it moves
+    /// along gravity); with it, the collider's
     /// radius and centre offset if it is a ball (as [`Replay::ball`]).
     /// `known` is that radius and offset when the caller has them (a pair
     /// of balls keeps them): then neither the collider nor its body is read.
@@ -72,7 +73,12 @@ impl Replay {
     ) -> Option<(Aabb, Option<BallOnPath>)> {
         let node = &self.nodes[n];
         let moved = node.v * (dt - from);
-        let far_enough = |half: Real| moved.length() > half.min(self.sweep_reach);
+        let reach = if node.v.dot(self.gravity_dt) > 0.0 {
+            self.fall_reach
+        } else {
+            self.sweep_reach
+        };
+        let far_enough = |half: Real| moved.length() > half.min(reach);
         let (swept, ball) = match known {
             Some(ball) => {
                 if !far_enough(ball.0) {
