@@ -592,58 +592,34 @@ mod tests {
         }
         let (mut carried_crowded, mut carried_free, mut fresh) = (0, 0, 0);
         for _ in 0..240 {
-            let seen_last: Vec<bool> = kimpact.prepare.ours.clone();
-            kimpact.before_step(
-                world.gravity,
-                &world.integration_parameters,
-                &world.islands,
-                &world.broad_phase,
-                &world.narrow_phase,
-                &mut world.bodies,
-                &mut world.colliders,
-                &world.impulse_joints,
-                &world.multibody_joints,
-                &(),
-            );
+            // The narrow phase as `before_step` reads it: rapier's last step's.
+            let touching: Vec<(ColliderHandle, bool)> = world
+                .colliders
+                .iter()
+                .map(|(ch, _)| {
+                    let mut pairs = world.narrow_phase.contact_pairs_with(ch);
+                    (ch, pairs.any(|cp| cp.has_any_active_contact()))
+                })
+                .collect();
+            let carried_before = kimpact.prepare.ours.clone();
+            kimpact.step_world(&mut world, &(), &());
+            // This step's flags and crowding stay in place until the next.
             for &ch in &kimpact.prepare.flagged {
-                let touching = world
-                    .narrow_phase
-                    .contact_pairs_with(ch)
-                    .any(|cp| cp.has_any_active_contact());
+                let touching = touching
+                    .iter()
+                    .find_map(|&(c, t)| (c == ch).then_some(t))
+                    .expect("the collider was there before the step");
                 assert_eq!(kimpact.prepare.is_crowded(ch), touching, "collider {ch:?}");
                 let index = ch.into_raw_parts().0 as usize;
-                match (seen_last.get(index).copied().unwrap_or(false), touching) {
+                match (
+                    carried_before.get(index).copied().unwrap_or(false),
+                    touching,
+                ) {
                     (true, true) => carried_crowded += 1,
                     (true, false) => carried_free += 1,
                     (false, _) => fresh += 1,
                 }
             }
-            world.physics_pipeline.step(
-                world.gravity,
-                &world.integration_parameters,
-                &mut world.islands,
-                &mut world.broad_phase,
-                &mut world.narrow_phase,
-                &mut world.bodies,
-                &mut world.colliders,
-                &mut world.impulse_joints,
-                &mut world.multibody_joints,
-                &mut world.soft_bodies,
-                &mut world.ccd_solver,
-                &kimpact.hooks(&()),
-                &(),
-            );
-            kimpact
-                .after_step(
-                    &world.narrow_phase,
-                    &world.broad_phase,
-                    &mut world.bodies,
-                    &world.colliders,
-                    &world.impulse_joints,
-                    &world.multibody_joints,
-                    &(),
-                )
-                .expect("prepared");
         }
         // The test saw both answers from the hook's record, and fresh flags.
         assert!(
