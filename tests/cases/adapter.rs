@@ -945,3 +945,59 @@ fn a_falling_ball_never_ends_a_step_inside_the_ball_it_lands_on() {
         assert!(landed, "{mode:?}: the ball did not land");
     }
 }
+
+/// A ball fast enough to be swept strikes a row of touching balls at rest.
+/// Restitution mode's replay chains on from a struck ball only while it
+/// moves more than a quarter of its size over the rest of the step (it
+/// could tunnel): a light striker sets the row's first ball moving slowly,
+/// and the rest of the row is rapier's solver's, from the next step; an
+/// equal one sets it moving as fast, and the replay takes the whole row in
+/// the striker's step. Exact mode takes the whole row either way. The
+/// momentum reaches the end of the row in every case.
+#[test]
+fn restitution_chains_through_a_row_only_while_the_struck_balls_move_fast() {
+    for (mode, striker_mass, chain) in [
+        (Mode::Restitution, 1.0, false),
+        (Mode::Restitution, 10.0, true),
+        (Mode::Exact, 1.0, true),
+        (Mode::Exact, 10.0, true),
+    ] {
+        let mut w = TestWorld::new(mode, 0.0, Vector::ZERO);
+        let row: Vec<_> = (0..5)
+            .map(|i| w.ball(Vector::X * i as Real, Vector::ZERO, 0.5, 10.0).0)
+            .collect();
+        // 40 m/s: two thirds of a metre per step at 60 Hz (the radius is
+        // 0.5), meeting the row within its first step.
+        let striker = w.ball(Vector::X * -1.3, Vector::X * 40.0, 0.5, striker_mass).0;
+        let p0 = striker_mass * 40.0;
+        w.step();
+        let replayed: Vec<_> = w
+            .kimpact
+            .events()
+            .iter()
+            .filter(|e| !e.by_solver)
+            .collect();
+        let expect = if chain { 5 } else { 1 };
+        assert_eq!(
+            replayed.len(),
+            expect,
+            "{mode:?}, striker of mass {striker_mass}: the replay's impacts {replayed:?}"
+        );
+        for _ in 0..60 {
+            w.step();
+        }
+        let last = w.vel(row[4]).x;
+        assert!(
+            f64::from(last) > 0.1 * f64::from(p0) / 10.0,
+            "{mode:?}, striker of mass {striker_mass}: the last ball moves at {last}"
+        );
+        let p: Real = row.iter().chain([&striker]).map(|&b| {
+            let m = if b == striker { striker_mass } else { 10.0 };
+            m * w.vel(b).x
+        }).sum();
+        assert!(
+            f64::from((p - p0).abs()) < 1e-3 * f64::from(p0),
+            "{mode:?}, striker of mass {striker_mass}: momentum {p0} -> {p}"
+        );
+    }
+}

@@ -33,7 +33,8 @@
 //! Restitution mode hands the replay only the bodies that move more than
 //! a quarter of their size per step (and their pairs, which rapier's solver then
 //! leaves alone): rapier's solver bounces every other pair with the law's
-//! restitution. A line that crosses its box several times per step is
+//! restitution. A body an impact bends chains on (brings its touching
+//! neighbours in, and is swept again) only while it still moves that fast. A line that crosses its box several times per step is
 //! bent at every wall, and the body is written back inside.
 
 use std::cmp::Ordering;
@@ -248,6 +249,10 @@ pub(crate) struct Replay {
     /// `sweep_reach` for a body that falls (moves along gravity): see
     /// [`Replay::run`].
     fall_reach: Real,
+    /// Restitution mode: a body an impact bends chains on (see
+    /// [`Replay::chains`]) only while it moves more than this share of its
+    /// half-size over the rest of the step; zero (always) in the others.
+    chain_share: Real,
     nodes: Vec<Node>,
     /// The dynamic nodes whose path the law bent this run, in the order of
     /// their first impact (the write-back walks these, not every node).
@@ -415,6 +420,38 @@ impl Replay {
         }
     }
 
+    /// Whether node `n`, whose path an impact on its collider `collider`
+    /// (a ball of radius and offset `ball`, if it is one) bent at `from`,
+    /// chains on: brings its touching neighbours into the replay and is
+    /// swept along its new path. Always, but in restitution mode, where it
+    /// does only while it moves more than a quarter of its size over the
+    /// rest of the step (as `Prepare::is_swept` hands a body to the replay):
+    /// slower, it cannot tunnel before rapier's contacts see it, and its
+    /// pairs outside the replay are rapier's solver's next step, bounced
+    /// with the law's restitution. (A row of touching balls struck hard
+    /// chains on while the struck balls move that fast; a pile a falling
+    /// ball lands on is not replayed through.)
+    fn chains(
+        &self,
+        colliders: &ColliderSet,
+        n: usize,
+        collider: ColliderHandle,
+        ball: Option<BallOnPath>,
+        from: Real,
+        dt: Real,
+    ) -> bool {
+        if self.chain_share == 0.0 {
+            return true;
+        }
+        let half = match ball {
+            Some((radius, _)) => radius,
+            None => colliders
+                .get(collider)
+                .map_or(0.0, crate::body_view::half_size),
+        };
+        (self.nodes[n].v * (dt - from)).length() > self.chain_share * half
+    }
+
     /// Collider `ch`'s sweep reached collider `other`: if the law governs the
     /// pair, bring it into the replay and predict it from `from`.
     #[allow(clippy::too_many_arguments)]
@@ -496,6 +533,14 @@ impl Replay {
         self.fall_reach = match mode {
             Mode::Impulse => 0.5 * prediction,
             _ => self.sweep_reach,
+        };
+        // Restitution mode's replay keeps fast bodies from tunnelling
+        // (`Prepare::is_swept`'s quarter of their size per step); a body
+        // an impact slows below that is a slow body like any other, whose
+        // pairs rapier's solver bounces.
+        self.chain_share = match mode {
+            Mode::Restitution => 0.5,
+            _ => 0.0,
         };
         for j in 0..input.candidates.len() {
             let c: Candidate = input.candidates[j];
@@ -688,16 +733,23 @@ impl Replay {
             instant = from;
             for n in [pair.a, pair.b] {
                 if self.nodes[n].dynamic {
+                    let side = pair.side(n);
+                    let collider = [pair.c1, pair.c2][side];
+                    let ball = pair.balls.map(|b| b[side]);
+                    if !self.chains(colliders, n, collider, ball, from, dt) {
+                        // Its touching neighbours are rapier's solver's next
+                        // step; its pairs with the sweepers are the replay's.
+                        self.bring_deferred(input, bodies, colliders, n, from, dt);
+                        continue;
+                    }
                     self.expand(input, bodies, colliders, narrow_phase, n, from, dt);
                     self.bring_deferred(input, bodies, colliders, n, from, dt);
                     // The new path may reach what neither the narrow phase
                     // nor the sweep along the old one saw: swept once this
                     // instant is over.
-                    let side = pair.side(n);
-                    let collider = [pair.c1, pair.c2][side];
                     if self.nodes[n].sweep_due != Some(collider) {
                         self.nodes[n].sweep_due = Some(collider);
-                        self.bent.push((n, collider, pair.balls.map(|b| b[side])));
+                        self.bent.push((n, collider, ball));
                     }
                 }
             }
