@@ -119,6 +119,11 @@ pub(crate) fn translations_locked(rb: &RigidBody) -> bool {
     rb.locked_axes().contains(TRANSLATIONS)
 }
 
+/// Restitution mode hands a body to the replay, and the replay chains on
+/// from a struck body, while it moves more than this share of its
+/// [`half_size`] over the step (a quarter of its size).
+pub(crate) const SWEPT_SHARE: Real = 0.5;
+
 /// Half the size of collider `co`, the distance a body may move per step
 /// before it can cross a partner unseen: a ball's radius, otherwise half
 /// the shortest side of its box.

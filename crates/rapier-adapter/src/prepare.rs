@@ -14,7 +14,7 @@
 
 use std::sync::atomic::{AtomicU32, Ordering};
 
-use crate::body_view::{Starts, half_size, path_velocity};
+use crate::body_view::{SWEPT_SHARE, Starts, half_size, path_velocity};
 use crate::calm::{Calm, Frame};
 use crate::frame::StepFrame;
 use crate::marks::Marks;
@@ -489,7 +489,7 @@ impl Prepare {
         if travel > 0.0
             && colliders
                 .get(ch)
-                .is_some_and(|co| travel > 0.5 * half_size(co))
+                .is_some_and(|co| travel > SWEPT_SHARE * half_size(co))
         {
             if self.swept_at.len() <= index {
                 self.swept_at.resize(index + 1, 0);

@@ -34,8 +34,9 @@
 //! a quarter of their size per step (and their pairs, which rapier's solver then
 //! leaves alone): rapier's solver bounces every other pair with the law's
 //! restitution. A body an impact bends chains on (brings its touching
-//! neighbours in, and is swept again) only while it still moves that fast. A line that crosses its box several times per step is
-//! bent at every wall, and the body is written back inside.
+//! neighbours in, and is swept again) only while it still moves that
+//! fast. A line that crosses its box several times per step is bent at
+//! every wall, and the body is written back inside.
 
 use std::cmp::Ordering;
 
@@ -539,7 +540,7 @@ impl Replay {
         // an impact slows below that is a slow body like any other, whose
         // pairs rapier's solver bounces.
         self.chain_share = match mode {
-            Mode::Restitution => 0.5,
+            Mode::Restitution => crate::body_view::SWEPT_SHARE,
             _ => 0.0,
         };
         for j in 0..input.candidates.len() {
