@@ -427,6 +427,15 @@ pub(crate) struct Cli {
     /// measure what the test buys.
     #[arg(long)]
     pub(crate) no_calm: bool,
+    /// Give native mode's marked colliders rapier's
+    /// `ActiveHooks::MODIFY_SOLVER_CONTACTS` with a hook that does nothing:
+    /// what rapier itself pays for a hooked pair (no contact recycling, the
+    /// hook's call), the floor of a law mode that hooks every marked
+    /// collider. It changes the native world of every timing run too, so
+    /// compare its `--solo --mode native` runs (under callgrind, say) with
+    /// those without it.
+    #[arg(long)]
+    pub(crate) hook_native: bool,
     /// Internal (with --solo): run the attribution pass.
     #[arg(long, hide = true)]
     pub(crate) attribute: bool,
@@ -557,6 +566,9 @@ pub(crate) fn child_args(
     if cli.no_calm {
         args.push("--no-calm".to_owned());
     }
+    if cli.hook_native {
+        args.push("--hook-native".to_owned());
+    }
     args
 }
 
@@ -567,6 +579,15 @@ static NO_CALM: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::n
 /// Whether `--no-calm` was given.
 pub fn no_calm() -> bool {
     NO_CALM.load(std::sync::atomic::Ordering::Relaxed)
+}
+
+/// `--hook-native` of this process (read by the scenes when they build
+/// their marked colliders).
+static HOOK_NATIVE: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Whether `--hook-native` was given.
+pub fn hook_native() -> bool {
+    HOOK_NATIVE.load(std::sync::atomic::Ordering::Relaxed)
 }
 
 /// In a child: run what `--pair` or `--solo` asks and print it as JSON.
@@ -645,6 +666,7 @@ pub(crate) fn machine() -> String {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     NO_CALM.store(cli.no_calm, std::sync::atomic::Ordering::Relaxed);
+    HOOK_NATIVE.store(cli.hook_native, std::sync::atomic::Ordering::Relaxed);
     if cli.pair || cli.solo {
         return child_main(&cli);
     }

@@ -142,6 +142,7 @@ impl Bench {
             .mass(mass)
             .friction(material.friction)
             .restitution(material.restitution);
+        let collider = self.hooked_if_asked(collider);
         let (b, c) = self.world.insert(body, collider);
         let colliders = &self.world.colliders;
         match law {
@@ -151,6 +152,17 @@ impl Bench {
         .expect("inserted just above");
         self.balls.push(b);
         b
+    }
+
+    /// `collider` with rapier's contact-modification hook flag in native
+    /// mode under `--hook-native` (see [`crate::hook_native`]), as it is
+    /// otherwise.
+    pub(crate) fn hooked_if_asked(&self, collider: ColliderBuilder) -> ColliderBuilder {
+        if self.kimpact.mode() == Mode::Native && crate::hook_native() {
+            collider.active_hooks(ActiveHooks::MODIFY_SOLVER_CONTACTS)
+        } else {
+            collider
+        }
     }
 
     /// A closed box of inner half-extents `half` centred at the origin, made

@@ -36,7 +36,7 @@ impl Bench {
                 let e = i as Real / num as Real;
                 let body =
                     RigidBodyBuilder::dynamic().translation(xy(2.0 * x, 10.0 * (j as Real + 1.0)));
-                let collider = ColliderBuilder::ball(rad).restitution(e);
+                let collider = b.hooked_if_asked(ColliderBuilder::ball(rad).restitution(e));
                 let (h, c) = b.world.insert(body, collider);
                 let material = LawParams::from_restitution(e, 0.5 * (1.0 + e))
                     .and_then(k::Material::from_params)
