@@ -16,7 +16,7 @@ use clap::ValueEnum;
 use serde::{Deserialize, Serialize};
 
 use crate::report::{self, Group, Row, fmt_delta_us, fmt_us};
-use crate::{Cli, Mode, Pair, Precision, Scene, Solo, child_args, machine, spawn_child};
+use crate::{Cli, Mode, Precision, Scene, machine, measure_group};
 
 /// A configuration of the effects table: the base, or the base with one
 /// effect on (see the effects builder in `effect_scene.rs`).
@@ -122,11 +122,6 @@ pub fn run(cli: &Cli) -> ExitCode {
         .collect();
     let rounds = cli.rounds.max(1);
     let started = Instant::now();
-    let with_effect = |mut args: Vec<String>, effect: Effect| {
-        args.push("--effect".to_owned());
-        args.push(effect.name().to_owned());
-        args
-    };
     let mut groups = Vec::new();
     for effect in Effect::ALL {
         let progress = |what: &str, mode: Mode| {
@@ -140,41 +135,10 @@ pub fn run(cli: &Cli) -> ExitCode {
                 mode.name()
             );
         };
-        let mut pairs = Vec::new();
-        for _ in 0..rounds {
-            for &mode in &law_modes {
-                progress("timing native +", mode);
-                let args = child_args(cli, "--pair", scene, balls, mode, precision);
-                let pair = spawn_child::<Pair>(cli, &with_effect(args, effect));
-                if let Err(e) = &pair {
-                    eprintln!("    failed: {e}");
-                }
-                pairs.push((mode, pair));
-            }
-        }
-        let mut solos = Vec::new();
-        for &mode in &modes {
-            progress("allocations of", mode);
-            let mut args = child_args(cli, "--solo", scene, balls, mode, precision);
-            if !cli.no_attribute {
-                args.push("--attribute".to_owned());
-            }
-            let solo = spawn_child::<Solo>(cli, &with_effect(args, effect));
-            if let Err(e) = &solo {
-                eprintln!("    failed: {e}");
-            }
-            solos.push((mode, solo));
-        }
-        let group = Group {
-            clock: cli.clock,
-            parallel: cfg!(feature = "parallel"),
-            scene,
-            precision,
-            balls,
-            modes: modes.clone(),
-            pairs,
-            solos,
-        };
+        let extra = ["--effect".to_owned(), effect.name().to_owned()];
+        let config = (scene, balls, precision);
+        let alone = "allocations of";
+        let group = measure_group(cli, config, &modes, &law_modes, &extra, alone, progress);
         groups.push((effect, group));
     }
     let command = std::iter::once("kimpact-bench".to_owned())

@@ -453,6 +453,63 @@ pub(crate) struct Cli {
     pub(crate) solo: bool,
 }
 
+/// The children of one scene, size and precision: `--rounds` timing pairs
+/// of each of `timed` (native and the mode in lockstep), then one run of
+/// each of `modes` alone (with the attribution of allocations unless
+/// `--no-attribute`), every child given `extra` after its usual arguments.
+/// `progress` hears of each child before it runs, with what it is
+/// ("timing native +", or `alone` for a mode alone). A child that fails is
+/// reported on stderr and kept as its error.
+pub(crate) fn measure_group(
+    cli: &Cli,
+    (scene, balls, precision): (Scene, usize, Precision),
+    modes: &[Mode],
+    timed: &[Mode],
+    extra: &[String],
+    alone: &str,
+    progress: impl Fn(&str, Mode),
+) -> report::Group {
+    let with_extra = |mut args: Vec<String>| {
+        args.extend(extra.iter().cloned());
+        args
+    };
+    let mut pairs = Vec::new();
+    for _ in 0..cli.rounds.max(1) {
+        for &mode in timed {
+            progress("timing native +", mode);
+            let args = child_args(cli, "--pair", scene, balls, mode, precision);
+            let pair = spawn_child::<Pair>(cli, &with_extra(args));
+            if let Err(e) = &pair {
+                eprintln!("    failed: {e}");
+            }
+            pairs.push((mode, pair));
+        }
+    }
+    let mut solos = Vec::new();
+    for &mode in modes {
+        progress(alone, mode);
+        let mut args = child_args(cli, "--solo", scene, balls, mode, precision);
+        if !cli.no_attribute {
+            args.push("--attribute".to_owned());
+        }
+        let solo = spawn_child::<Solo>(cli, &with_extra(args));
+        if let Err(e) = &solo {
+            eprintln!("    failed: {e}");
+        }
+        solos.push((mode, solo));
+    }
+    report::Group {
+        clock: cli.clock,
+        parallel: cfg!(feature = "parallel"),
+        scene,
+        precision,
+        balls,
+        modes: modes.to_vec(),
+        pairs,
+        solos,
+    }
+}
+
 /// A child process of this binary, its JSON answer parsed; `Err` with the
 /// reason when it failed (a panic, a timeout, no answer).
 pub(crate) fn spawn_child<T: serde::de::DeserializeOwned>(
@@ -744,41 +801,16 @@ fn main() -> ExitCode {
                         mode.name(),
                     );
                 };
-                let mut pairs = Vec::new();
-                for _ in 0..rounds {
-                    for &mode in &timed {
-                        progress("timing native +", mode);
-                        let args = child_args(&cli, "--pair", scene, balls, mode, precision);
-                        let pair = spawn_child::<Pair>(&cli, &args);
-                        if let Err(e) = &pair {
-                            eprintln!("    failed: {e}");
-                        }
-                        pairs.push((mode, pair));
-                    }
-                }
-                let mut solos = Vec::new();
-                for &mode in &modes {
-                    progress("memory of", mode);
-                    let mut args = child_args(&cli, "--solo", scene, balls, mode, precision);
-                    if !cli.no_attribute {
-                        args.push("--attribute".to_owned());
-                    }
-                    let solo = spawn_child::<Solo>(&cli, &args);
-                    if let Err(e) = &solo {
-                        eprintln!("    failed: {e}");
-                    }
-                    solos.push((mode, solo));
-                }
-                groups.push(report::Group {
-                    clock: cli.clock,
-                    parallel: cfg!(feature = "parallel"),
-                    scene,
-                    precision,
-                    balls,
-                    modes: modes.clone(),
-                    pairs,
-                    solos,
-                });
+                let config = (scene, balls, precision);
+                groups.push(measure_group(
+                    &cli,
+                    config,
+                    &modes,
+                    &timed,
+                    &[],
+                    "memory of",
+                    progress,
+                ));
             }
         }
     }
