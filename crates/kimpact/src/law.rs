@@ -111,11 +111,11 @@ impl<T: RealField + Copy> Coefficient<T> {
 #[derive(Copy, Clone, Debug)]
 pub(crate) struct PairMasses<T> {
     /// `m_a / M`: scales `Δv_b`.
-    frac_a: T,
+    pub(crate) frac_a: T,
     /// `m_b / M`: scales `Δv_a`.
-    frac_b: T,
+    pub(crate) frac_b: T,
     /// `μ = m_a m_b / M` (the finite mass against an immovable partner).
-    reduced: T,
+    pub(crate) reduced: T,
     /// `M / μ = M² / (m_a m_b)`, computed only when d̃ > 0.
     growth: Growth<T>,
     /// Whether one partner is immovable.
@@ -237,7 +237,7 @@ impl<T: RealField + Copy> Law<T> {
     }
 
     #[inline]
-    fn pair_masses(&self, a: Mass<T>, b: Mass<T>) -> Option<PairMasses<T>> {
+    pub(crate) fn pair_masses(&self, a: Mass<T>, b: Mass<T>) -> Option<PairMasses<T>> {
         let one = T::one();
         let wall_growth = match self.fixed_partner {
             FixedPartner::OwnMass => Growth::One,
@@ -288,10 +288,14 @@ impl<T: RealField + Copy> Law<T> {
     /// restitution. `q` may be infinite (grazing impacts, extreme mass
     /// ratios, literal walls): that is the clamped case, never a NaN.
     #[inline]
+    ///
+    /// `factor` multiplies `M/μ` (the rigid law's `1 + μ (a₁ + a₂)`, so
+    /// that `M/μ · factor = M/m_eff`); the ball law passes exactly 1.
     pub(crate) fn coefficient(
         &self,
         pair: &PairMasses<T>,
         rho: impl FnOnce() -> T,
+        factor: T,
     ) -> Coefficient<T> {
         let dissipation = if pair.wall && self.fixed_partner == FixedPartner::OwnMass {
             self.wall_dissipation
@@ -312,7 +316,7 @@ impl<T: RealField + Copy> Law<T> {
             Growth::One => Some(one),
             Growth::Infinite => None,
         };
-        let q = growth.map(|growth| (dissipation + dissipation) * rho() * growth);
+        let q = growth.map(|growth| (dissipation + dissipation) * rho() * (growth * factor));
         match q {
             Some(q) if q <= one => Coefficient {
                 q,
@@ -383,7 +387,7 @@ impl<T: RealField + Copy> Law<T> {
         };
         let ratio = tangential_speed / approach_speed;
         let rho = T::one() + ratio * ratio;
-        let c = self.coefficient(&pair, || rho);
+        let c = self.coefficient(&pair, || rho, T::one());
         Ok(Some(Restitution {
             coefficient: c.e,
             clamped: c.clamped,
@@ -430,17 +434,21 @@ impl<T: RealField + Copy> Law<T> {
             return None;
         }
         let pair = self.pair_masses(a.mass, b.mass)?;
-        let c = self.coefficient(&pair, || {
-            // ρ = (|w|/u)². For a subnormal u, 1/u overflows and a zero
-            // component of w would make ρ NaN (then misread as clamped):
-            // divide instead on that rare path.
-            let inverse = T::one() / approach_speed;
-            if inverse.is_finite() {
-                (w * inverse).norm_squared()
-            } else {
-                (w / approach_speed).norm_squared()
-            }
-        });
+        let c = self.coefficient(
+            &pair,
+            || {
+                // ρ = (|w|/u)². For a subnormal u, 1/u overflows and a zero
+                // component of w would make ρ NaN (then misread as clamped):
+                // divide instead on that rare path.
+                let inverse = T::one() / approach_speed;
+                if inverse.is_finite() {
+                    (w * inverse).norm_squared()
+                } else {
+                    (w / approach_speed).norm_squared()
+                }
+            },
+            T::one(),
+        );
         let e = c.e;
         let s = approach_speed * (T::one() + e);
         // `s <= 2u` overflows only for u above half the largest finite

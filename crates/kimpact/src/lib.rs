@@ -51,6 +51,7 @@
 struct ReadmeDoctests;
 
 mod body;
+mod dim;
 mod error;
 mod impact;
 mod law;
@@ -58,14 +59,19 @@ mod mode;
 mod num;
 mod params;
 pub mod prelude;
+mod rigid;
+mod rigid_law;
 mod stats;
 
 pub use body::{Body, Mass};
+pub use dim::RigidDim;
 pub use error::{LawError, Which};
 pub use impact::{Energies, Impact, Restitution};
 pub use law::{CLAMP_TOLERANCE, Law};
 pub use mode::{Mode, ParseModeError, ParsePrecisionError, Precision};
 pub use params::{FixedPartner, LawParams, ParseFixedPartnerError};
+pub use rigid::{Angular, Contact, InverseInertia, RigidBody};
+pub use rigid_law::RigidImpact;
 pub use stats::Stats;
 
 /// Re-export of the nalgebra this crate speaks.
