@@ -53,6 +53,7 @@ struct ReadmeDoctests;
 mod body;
 mod dim;
 mod error;
+mod friction;
 mod impact;
 mod law;
 mod mode;
@@ -66,12 +67,13 @@ mod stats;
 pub use body::{Body, Mass};
 pub use dim::RigidDim;
 pub use error::{LawError, Which};
+pub use friction::ImpactFriction;
 pub use impact::{Energies, Impact, Restitution};
 pub use law::{CLAMP_TOLERANCE, Law};
 pub use mode::{Mode, ParseModeError, ParsePrecisionError, Precision};
 pub use params::{FixedPartner, LawParams, ParseFixedPartnerError};
 pub use rigid::{Angular, Contact, InverseInertia, RigidBody};
-pub use rigid_law::RigidImpact;
+pub use rigid_law::{FrictionRegime, RigidImpact};
 pub use stats::Stats;
 
 /// Re-export of the nalgebra this crate speaks.

@@ -12,4 +12,7 @@
 //! # Ok::<(), LawError>(())
 //! ```
 
-pub use crate::{Body, Energies, FixedPartner, Impact, Law, LawError, LawParams};
+pub use crate::{
+    Body, Contact, Energies, FixedPartner, FrictionRegime, Impact, ImpactFriction, Law, LawError,
+    LawParams, RigidBody, RigidImpact,
+};
