@@ -17,6 +17,12 @@ use crate::rigid::{Angular, Contact, RigidBody};
 /// Δv_a = −(J/m_a) n̄,   Δω_a = −J I_a⁻¹ k_a,
 /// Δv_b =  (J/m_b) n̄,   Δω_b =  J I_b⁻¹ k_b.
 /// ```
+///
+/// With impact friction ([`Law::resolve_rigid_with_friction`]) the
+/// impulse on `b` is `P = J n̄ + P_t` (`P_t` the
+/// [`tangential_impulse`](Self::tangential_impulse)), and then
+/// `Δv_b = P/m_b`, `Δω_b = I_b⁻¹(r_b × P)`, `Δv_a = −P/m_a`,
+/// `Δω_a = −I_a⁻¹(r_a × P)`. Immovable bodies' changes are zero.
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct RigidImpact<T: RealField + Copy, const D: usize>
 where
