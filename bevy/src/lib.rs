@@ -86,13 +86,15 @@ pub use kimpact3d as kimpact_rapier;
 
 pub use kimpact_rapier::{Config, FixedPartner, ImpactEvent, LawParams, Material, Mode, Stats};
 
+mod components;
 mod hooks;
 mod plugin;
 mod state;
 mod steps;
 mod systems;
 
-pub use plugin::{ImpactMessage, KimpactCollider, KimpactPlugin, KimpactSet, KimpactSettings};
+pub use components::{ImpactMessage, KimpactCollider, KimpactSettings};
+pub use plugin::{KimpactPlugin, KimpactSet};
 pub use state::KimpactState;
 
 #[cfg(doc)]

@@ -34,6 +34,18 @@ pub(crate) struct Warned {
     pub several_contexts: bool,
 }
 
+impl std::fmt::Debug for KimpactState {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("KimpactState")
+            .field("mode", &self.kimpact.mode())
+            .field("law", self.kimpact.law())
+            .field("stats", &self.kimpact.stats())
+            .field("marked_entities", &self.marks.by_entity.len())
+            .field("standing_aside", &self.standing_aside)
+            .finish_non_exhaustive()
+    }
+}
+
 impl KimpactState {
     pub(crate) fn new(kimpact: Kimpact) -> Self {
         Self {

@@ -20,10 +20,10 @@ use crate::bevy_rapier::plugin::{
     DefaultRapierContext, RapierConfiguration, SimulationMode, TimestepMode,
 };
 use crate::bevy_rapier::prelude::RapierColliderHandle;
+use crate::components::{ImpactMessage, KimpactCollider, KimpactSettings};
 use crate::hooks::UserHooks;
 use crate::kimpact_rapier::math::Real;
 use crate::kimpact_rapier::rapier::prelude::PhysicsHooks;
-use crate::plugin::{ImpactMessage, KimpactCollider, KimpactSettings};
 use crate::state::KimpactState;
 use crate::steps::{MAX_ROUNDS, PlannedSteps, planned_steps};
 

@@ -1067,3 +1067,18 @@ fn a_non_finite_body_is_quarantined_as_bevy_rapier_does() {
         let _ = b;
     }
 }
+
+#[test]
+fn the_plugin_and_the_state_are_debug() {
+    let plugin = KimpactPlugin::default().with_rapier(|rapier| rapier.with_length_unit(2.0));
+    let shown = format!("{plugin:?}");
+    assert!(shown.starts_with("KimpactPlugin"), "{shown}");
+    assert!(shown.contains("configures_rapier: true"), "{shown}");
+    let c = cradle(Setup::new());
+    let shown = format!("{:?}", c.test.state());
+    assert!(shown.contains("mode: Exact"), "{shown}");
+    assert!(
+        shown.contains(&format!("impacts: {}", c.test.state().stats().impacts)),
+        "{shown}"
+    );
+}
