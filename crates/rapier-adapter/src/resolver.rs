@@ -513,6 +513,12 @@ impl Kimpact {
     /// Restitution mode: rapier's solver applied the law's restitution;
     /// report the law's outcome for the velocities it saw at detection, for
     /// each pair whose contact carried an impulse this step.
+    ///
+    /// The impulses are read from the manifolds rapier's solver solved
+    /// (`ContactPair::solver_manifolds`): where rapier clusters a composite
+    /// shape's manifolds (`IntegrationParameters::contact_clustering`, a
+    /// trimesh in 3D) the solver's impulses are in the clusters, and the
+    /// per-triangle manifolds keep none.
     fn report_restitution(&mut self, narrow_phase: &NarrowPhase) {
         for c in self.candidates.sorted() {
             if c.by_replay {
@@ -521,7 +527,7 @@ impl Kimpact {
             let bounced = narrow_phase
                 .contact_pair(c.collider1, c.collider2)
                 .is_some_and(|cp| {
-                    cp.manifolds()
+                    cp.solver_manifolds()
                         .iter()
                         .any(|m| m.points.iter().any(|p| p.data.impulse > 0.0))
                 });
