@@ -23,12 +23,6 @@ fn exact_gas_check() {
         "exact: energy {e0} -> {e1} (relative {:e})",
         (e1 - e0) / e0
     );
-    let (n0, n1, _) = gas(Mode::Native, 10_000);
-    eprintln!(
-        "gas {DIM}D: exact keeps {:.3e} relative; native loses {:.1}%",
-        (e1 - e0) / e0,
-        100.0 * (1.0 - n1 / n0)
-    );
 }
 
 /// 1,000 balls of mixed masses dropped into an open box under gravity.
