@@ -2,8 +2,8 @@
 //!
 //! The core of kimpact, with no physics-engine dependency: one impact between
 //! two bodies, generic over the scalar (`f32`, `f64`) and the dimension (2,
-//! 3, any `D`) through nalgebra. The rapier adapters (`kimpact2d`,
-//! `kimpact3d`) call it for the contacts they take over.
+//! 3, any `D`) through nalgebra. An engine integration calls it for the
+//! contacts it takes over.
 //!
 //! For bodies 1 and 2 with masses `m₁, m₂`, velocities `v₁, v₂` and the
 //! unit normal `n̄₁` from 1 towards the contact (`n̄₂ = −n̄₁`):
@@ -50,17 +50,29 @@
 #[doc = include_str!("../README.md")]
 struct ReadmeDoctests;
 
+mod body;
+mod dim;
 mod error;
+mod impact;
 mod law;
+mod mode;
+mod num;
+mod params;
 pub mod prelude;
-mod shared;
+mod rigid;
+mod rigid_law;
+mod stats;
 
+pub use body::{Body, Mass};
+pub use dim::RigidDim;
 pub use error::{LawError, Which};
-pub use law::{
-    Body, CLAMP_TOLERANCE, Energies, FixedPartner, Impact, Law, LawParams, Mass,
-    ParseFixedPartnerError, Restitution,
-};
-pub use shared::{Mode, ParseModeError, ParsePrecisionError, Precision, Stats};
+pub use impact::{Energies, Impact, Restitution};
+pub use law::{CLAMP_TOLERANCE, Law};
+pub use mode::{Mode, ParseModeError, ParsePrecisionError, Precision};
+pub use params::{FixedPartner, LawParams, ParseFixedPartnerError};
+pub use rigid::{Angular, Contact, InverseInertia, RigidBody};
+pub use rigid_law::RigidImpact;
+pub use stats::Stats;
 
 /// Re-export of the nalgebra this crate speaks.
 pub use nalgebra;
