@@ -11,6 +11,7 @@ mod d2 {
     }
     include!("cases/adapter.rs");
     include!("cases/calm.rs");
+    include!("cases/clamps.rs");
     include!("cases/contract.rs");
     include!("cases/user_worlds.rs");
     include!("cases/settings.rs");
@@ -25,6 +26,7 @@ mod d3 {
     }
     include!("cases/adapter.rs");
     include!("cases/calm.rs");
+    include!("cases/clamps.rs");
     include!("cases/contract.rs");
     include!("cases/user_worlds.rs");
     include!("cases/settings.rs");
@@ -39,6 +41,7 @@ mod d2_f64 {
     }
     include!("cases/adapter.rs");
     include!("cases/calm.rs");
+    include!("cases/clamps.rs");
     include!("cases/contract.rs");
     include!("cases/user_worlds.rs");
     include!("cases/settings.rs");
@@ -60,6 +63,7 @@ mod d3_f64 {
     }
     include!("cases/adapter.rs");
     include!("cases/calm.rs");
+    include!("cases/clamps.rs");
     include!("cases/contract.rs");
     include!("cases/user_worlds.rs");
     include!("cases/settings.rs");
