@@ -104,6 +104,22 @@ pub struct Kimpact {
     replay: Replay,
 }
 
+/// The user's state (law, mode, configuration, how many colliders are
+/// marked), this step's events and the totals; not the scratch of a step.
+impl std::fmt::Debug for Kimpact {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Kimpact")
+            .field("law", &self.law)
+            .field("mode", &self.mode)
+            .field("config", &self.config)
+            .field("marked", &self.marks.len())
+            .field("prepared", &self.prepared.is_some())
+            .field("events", &self.log.events)
+            .field("stats", &self.log.stats)
+            .finish_non_exhaustive()
+    }
+}
+
 impl Kimpact {
     /// A resolver applying `law` in `mode`, with the default [`Config`].
     pub fn new(law: Law<Real>, mode: Mode) -> Self {
@@ -544,15 +560,10 @@ impl Kimpact {
             }
         }
     }
-
-    /// Testing aid: sweep fast bodies one broad-phase query at a time, never
-    /// in bulk (in a gas the bodies come out the same bit for bit either
-    /// way; a test checks it).
-    #[doc(hidden)]
-    pub fn set_per_body_sweep(&mut self, on: bool) {
-        self.replay.per_body_sweep = on;
-    }
 }
+
+#[cfg(test)]
+mod sweep_tests;
 
 #[cfg(test)]
 mod tests {
