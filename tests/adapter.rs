@@ -10,9 +10,12 @@ mod d2 {
         include!("cases/world.rs");
     }
     include!("cases/adapter.rs");
+    include!("cases/calm.rs");
+    include!("cases/clamps.rs");
     include!("cases/contract.rs");
     include!("cases/user_worlds.rs");
     include!("cases/settings.rs");
+    include!("cases/meshes.rs");
 }
 
 mod d3 {
@@ -22,9 +25,12 @@ mod d3 {
         include!("cases/world.rs");
     }
     include!("cases/adapter.rs");
+    include!("cases/calm.rs");
+    include!("cases/clamps.rs");
     include!("cases/contract.rs");
     include!("cases/user_worlds.rs");
     include!("cases/settings.rs");
+    include!("cases/meshes.rs");
 }
 
 mod d2_f64 {
@@ -34,9 +40,12 @@ mod d2_f64 {
         include!("cases/world.rs");
     }
     include!("cases/adapter.rs");
+    include!("cases/calm.rs");
+    include!("cases/clamps.rs");
     include!("cases/contract.rs");
     include!("cases/user_worlds.rs");
     include!("cases/settings.rs");
+    include!("cases/meshes.rs");
     include!("cases/soak.rs");
     include!("cases/long.rs");
 
@@ -53,9 +62,12 @@ mod d3_f64 {
         include!("cases/world.rs");
     }
     include!("cases/adapter.rs");
+    include!("cases/calm.rs");
+    include!("cases/clamps.rs");
     include!("cases/contract.rs");
     include!("cases/user_worlds.rs");
     include!("cases/settings.rs");
+    include!("cases/meshes.rs");
     include!("cases/soak.rs");
     include!("cases/long.rs");
 

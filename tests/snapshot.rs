@@ -17,7 +17,7 @@ fn build(mode: Mode) -> (PhysicsWorld, Kimpact, Vec<RigidBodyHandle>) {
     let floor =
         world.insert_body(RigidBodyBuilder::fixed().translation(Vector::new(0.0, -1.0, 0.0)));
     world.insert_collider(
-        kimpact3d::math::cuboid(Vector::new(10.0, 1.0, 10.0)).friction(0.0),
+        ColliderBuilder::cuboid(10.0, 1.0, 10.0).friction(0.0),
         Some(floor),
     );
     let mut balls = Vec::new();

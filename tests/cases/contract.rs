@@ -152,7 +152,7 @@ fn switching_from_native_between_steps_takes_the_next_impacts() {
         assert!(w.kimpact.stats().impacts > 0, "native → {to}: impacts taken");
         for &ball in &balls {
             let (p, v) = (w.pos(ball), w.vel(ball));
-            assert!(k::math::is_finite(p) && k::math::is_finite(v), "native → {to}");
+            assert!(p.is_finite() && v.is_finite(), "native → {to}");
             for axis in 0..DIM {
                 assert!(p[axis].abs() < 6.0, "native → {to}: a ball left the box: {p:?}");
             }
@@ -316,7 +316,7 @@ fn a_pile_at_rest_still_sleeps() {
         let mut he = Vector::splat(5.0);
         he[1] = 0.5;
         w.world
-            .insert_collider(k::math::cuboid(he).translation(Vector::Y * -0.5), Some(floor));
+            .insert_collider(world::cuboid(he).translation(Vector::Y * -0.5), Some(floor));
         let mut balls = Vec::new();
         for i in 0..3 {
             let p = Vector::X * (i as Real * 1.2) + Vector::Y * 0.6;
@@ -520,4 +520,21 @@ fn mode_stats_and_precision_are_the_core_s_types() {
     };
     assert_eq!(k::math::PRECISION, expected);
     assert_eq!("impulse".parse::<k::Mode>(), Ok(mode));
+}
+
+/// `Kimpact` and the hooks of a step print the user's state (law, mode,
+/// configuration, how many colliders are marked, the totals), not a
+/// step's scratch.
+#[test]
+fn the_resolver_and_its_hooks_are_debug() {
+    let mut w = TestWorld::new(Mode::Impulse, 0.0, Vector::ZERO);
+    w.ball(Vector::ZERO, Vector::X, 0.5, 1.0);
+    w.ball(Vector::X * 3.0, Vector::ZERO, 0.5, 1.0);
+    w.step();
+    let shown = format!("{:?}", w.kimpact);
+    for part in ["Kimpact", "mode: Impulse", "marked: 2", "steps: 1", "config: Config"] {
+        assert!(shown.contains(part), "{part:?} not in {shown}");
+    }
+    let hooks = format!("{:?}", w.kimpact.hooks(&()));
+    assert!(hooks.starts_with("StepHooks") && hooks.contains("mode: Native"), "{hooks}");
 }

@@ -151,7 +151,7 @@ fn settings_kinematic_bodies_are_immovable_partners() {
                 );
                 let he = Vector::splat(0.5);
                 w.world.insert_collider(
-                    k::math::cuboid(he).friction(0.0).restitution(0.0),
+                    world::cuboid(he).friction(0.0).restitution(0.0),
                     Some(paddle),
                 );
                 let v0 = Vector::X * ball_speed;

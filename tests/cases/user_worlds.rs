@@ -131,7 +131,7 @@ fn extended_shapes() -> Vec<(&'static str, ColliderBuilder)> {
         ]
     };
     vec![
-        ("cuboid", k::math::cuboid(half)),
+        ("cuboid", world::cuboid(half)),
         ("capsule", ColliderBuilder::capsule_y(0.3, 0.25)),
         ("convex hull", ColliderBuilder::convex_hull(&hull).unwrap()),
         ("trimesh", ColliderBuilder::trimesh(box_corners(half), indices).unwrap()),

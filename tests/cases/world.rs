@@ -7,6 +7,13 @@ use k::rapier::prelude::*;
 #[allow(unused_imports)]
 use k::{Kimpact, Law, LawParams, Mode};
 
+/// A cuboid collider from its half-extents, in either dimension (rapier's
+/// `ColliderBuilder::cuboid` takes one argument per axis).
+pub fn cuboid(half_extents: Vector) -> ColliderBuilder {
+    let shape = k::rapier::parry::shape::Cuboid::new(half_extents);
+    ColliderBuilder::new(SharedShape::new(shape))
+}
+
 pub struct TestWorld {
     pub world: PhysicsWorld,
     pub kimpact: Kimpact,
@@ -56,7 +63,7 @@ impl TestWorld {
     pub fn wall(&mut self, center: Vector, half_extents: Vector) -> ColliderHandle {
         let body = RigidBodyBuilder::fixed().translation(center);
         let b = self.world.insert_body(body);
-        let collider = k::math::cuboid(half_extents).friction(0.0).restitution(1.0);
+        let collider = cuboid(half_extents).friction(0.0).restitution(1.0);
         self.world.insert_collider(collider, Some(b))
     }
 

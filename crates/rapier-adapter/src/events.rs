@@ -41,6 +41,14 @@ pub struct ImpactEvent {
     pub dissipated: Real,
     /// Whether `d` had to be reduced (the law's complex-root case).
     pub clamped: bool,
+    /// The dissipation the law asked for beyond what the impact could take
+    /// (`kimpact::Impact::unmet_dissipation`): zero unless `clamped`; about
+    /// `1e-6` of the normal energy `½ μ u²` for a clamp from rounding, of
+    /// the order of `½ μ u²` or more for a clamp of the law itself (an
+    /// oblique impact under a law for a small restitution); `+∞` when the
+    /// ask is unbounded (a `FixedPartner::Literal` wall with `d̃ > 0`).
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    pub unmet_dissipation: Real,
 }
 
 /// Running totals since the [`crate::Kimpact`] was built: the core's
@@ -72,6 +80,7 @@ impl EventLog {
         self.stats.impacts += 1;
         self.stats.clamped += u64::from(impact.clamped);
         self.stats.dissipated += f64::from(impact.dissipated);
+        self.stats.record_unmet(f64::from(impact.unmet_dissipation));
         self.events.push(ImpactEvent {
             collider1: c.collider1,
             collider2: c.collider2,
@@ -84,6 +93,7 @@ impl EventLog {
             restitution: impact.restitution,
             dissipated: impact.dissipated,
             clamped: impact.clamped,
+            unmet_dissipation: impact.unmet_dissipation,
         });
     }
 

@@ -37,6 +37,18 @@ pub struct StepHooks<'a> {
     pub(crate) user: &'a dyn PhysicsHooks,
 }
 
+/// The step's frame and mode (the user's hooks are not `Debug`).
+impl std::fmt::Debug for StepHooks<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("StepHooks")
+            .field("law", self.law)
+            .field("frame", &self.frame)
+            .field("mode", &self.mode)
+            .field("fixed_partners", &self.fixed_partners)
+            .finish_non_exhaustive()
+    }
+}
+
 /// How far past the step's end (relative to `dt`) the hook's graze test
 /// still takes a meeting as in this step (rounding at the step's end).
 const GRAZE_HORIZON: Real = 1e-3;

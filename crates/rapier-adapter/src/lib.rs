@@ -21,7 +21,7 @@
 //! `PhysicsPipeline::step` itself runs kimpact's three stages around it:
 //! [`Kimpact::before_step`], [`Kimpact::hooks`], [`Kimpact::after_step`].
 //! [`prelude`] holds the names these changes use.
-#![warn(missing_docs)]
+#![warn(missing_docs, missing_debug_implementations)]
 #![forbid(unsafe_code)]
 // One source for f32 and f64: `f64::from(x)` is a conversion in one build
 // and the identity in the other.

@@ -61,6 +61,11 @@ impl Marks {
         }
     }
 
+    /// How many colliders are marked.
+    pub(crate) fn len(&self) -> usize {
+        self.tags.iter().filter(|&&tag| tag != 0).count()
+    }
+
     /// Whether marked collider `handle` is not a point collider.
     pub(crate) fn is_extended(&self, handle: ColliderHandle) -> bool {
         self.extended

@@ -43,12 +43,6 @@ pub fn from_law(v: &LawVector) -> Vector {
     }
 }
 
-/// Whether every component is finite.
-#[inline]
-pub fn is_finite(v: Vector) -> bool {
-    v.is_finite()
-}
-
 /// A cuboid collider from its half-extents, in either dimension (rapier's
 /// `ColliderBuilder::cuboid` takes one argument per axis).
 pub fn cuboid(half_extents: Vector) -> crate::rapier::prelude::ColliderBuilder {

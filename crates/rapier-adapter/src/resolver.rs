@@ -104,6 +104,22 @@ pub struct Kimpact {
     replay: Replay,
 }
 
+/// The user's state (law, mode, configuration, how many colliders are
+/// marked), this step's events and the totals; not the scratch of a step.
+impl std::fmt::Debug for Kimpact {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Kimpact")
+            .field("law", &self.law)
+            .field("mode", &self.mode)
+            .field("config", &self.config)
+            .field("marked", &self.marks.len())
+            .field("prepared", &self.prepared.is_some())
+            .field("events", &self.log.events)
+            .field("stats", &self.log.stats)
+            .finish_non_exhaustive()
+    }
+}
+
 impl Kimpact {
     /// A resolver applying `law` in `mode`, with the default [`Config`].
     pub fn new(law: Law<Real>, mode: Mode) -> Self {
@@ -513,6 +529,12 @@ impl Kimpact {
     /// Restitution mode: rapier's solver applied the law's restitution;
     /// report the law's outcome for the velocities it saw at detection, for
     /// each pair whose contact carried an impulse this step.
+    ///
+    /// The impulses are read from the manifolds rapier's solver solved
+    /// (`ContactPair::solver_manifolds`): where rapier clusters a composite
+    /// shape's manifolds (`IntegrationParameters::contact_clustering`, a
+    /// trimesh in 3D) the solver's impulses are in the clusters, and the
+    /// per-triangle manifolds keep none.
     fn report_restitution(&mut self, narrow_phase: &NarrowPhase) {
         for c in self.candidates.sorted() {
             if c.by_replay {
@@ -521,7 +543,7 @@ impl Kimpact {
             let bounced = narrow_phase
                 .contact_pair(c.collider1, c.collider2)
                 .is_some_and(|cp| {
-                    cp.manifolds()
+                    cp.solver_manifolds()
                         .iter()
                         .any(|m| m.points.iter().any(|p| p.data.impulse > 0.0))
                 });
@@ -538,15 +560,10 @@ impl Kimpact {
             }
         }
     }
-
-    /// Testing aid: sweep fast bodies one broad-phase query at a time, never
-    /// in bulk (in a gas the bodies come out the same bit for bit either
-    /// way; a test checks it).
-    #[doc(hidden)]
-    pub fn set_per_body_sweep(&mut self, on: bool) {
-        self.replay.per_body_sweep = on;
-    }
 }
+
+#[cfg(test)]
+mod sweep_tests;
 
 #[cfg(test)]
 mod tests {

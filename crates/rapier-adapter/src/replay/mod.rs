@@ -321,8 +321,12 @@ pub(crate) struct Replay {
     /// rapier's broad-phase boxes in a grid, for the single sweeps of a run
     /// that makes many (see [`LeafGrid`]).
     leaves: LeafGrid,
-    /// Never sweep in bulk (tests compare both ways).
+    /// Never sweep in bulk, nor through `leaves` (the unit tests compare
+    /// both ways).
     pub(crate) per_body_sweep: bool,
+    /// Runs that swept in bulk (for the unit tests).
+    #[cfg(test)]
+    pub(crate) bulk_sweeps: u64,
 }
 
 /// A collider the replay sweeps along its node's path this run.

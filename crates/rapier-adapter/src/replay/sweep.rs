@@ -42,7 +42,13 @@ impl Replay {
         let bulk = !self.per_body_sweep
             && sweepers.len() >= BULK_MIN
             && sweepers.len() * BULK_SHARE >= colliders.len();
-        if !(bulk && self.sweep_in_bulk(input, bodies, colliders, broad_phase, &sweepers, dt)) {
+        let in_bulk =
+            bulk && self.sweep_in_bulk(input, bodies, colliders, broad_phase, &sweepers, dt);
+        #[cfg(test)]
+        {
+            self.bulk_sweeps += u64::from(in_bulk);
+        }
+        if !in_bulk {
             for &Sweeper {
                 collider: ch, aabb, ..
             } in &sweepers
