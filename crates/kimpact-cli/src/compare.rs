@@ -350,6 +350,38 @@ fn table(reports: &[Report]) -> html::Table {
     html::Table { header, rows, note }
 }
 
+/// The summary's "Settings the command adds": the settings of every mode,
+/// then each mode's own (see `report::Setup::added`).
+fn added(s: &mut String, reports: &[Report]) {
+    let _ = writeln!(s, "## Settings the command adds\n");
+    let all: Vec<&String> = reports
+        .first()
+        .map(|r| r.setup.added.iter().collect())
+        .unwrap_or_default();
+    let common: Vec<&String> = all
+        .into_iter()
+        .filter(|a| reports.iter().all(|r| r.setup.added.contains(a)))
+        .collect();
+    let mut any = false;
+    for a in &common {
+        let _ = writeln!(s, "- every mode: {a}");
+        any = true;
+    }
+    for r in reports {
+        for a in r.setup.added.iter().filter(|a| !common.contains(a)) {
+            let _ = writeln!(s, "- {}: {a}", r.mode);
+            any = true;
+        }
+    }
+    if !any {
+        let _ = writeln!(
+            s,
+            "None: every mode runs the scene's bodies as rapier builds them."
+        );
+    }
+    let _ = writeln!(s);
+}
+
 /// The markdown summary.
 fn summary(
     scene: &Scene,
@@ -368,6 +400,7 @@ fn summary(
         let _ = writeln!(s, "{d}\n");
     }
     let _ = writeln!(s, "{}\n", setup_line(scene, steps));
+    added(&mut s, reports);
     let run_warnings: Vec<&String> = reports
         .iter()
         .flat_map(|r| &r.warnings[scene.warnings.len()..])

@@ -142,12 +142,13 @@ fn execute(cli: Cli) -> Result<(), CliError> {
         Command::Check { scene } => {
             let scene = load(&scene)?;
             println!(
-                "{}: ok: {}D {}, {} bodies ({} fixed), {} steps of {} s, mode {}, effects [{}]",
+                "{}: ok: {}D {}, {} bodies ({} fixed), {} joints, {} steps of {} s, mode {}, effects [{}]",
                 scene.file,
                 scene.dim,
                 scene.precision.name(),
                 scene.bodies.len(),
                 scene.bodies.iter().filter(|b| b.fixed).count(),
+                scene.joints.len(),
                 scene.steps,
                 scene.dt,
                 scene.mode,

@@ -128,8 +128,26 @@ pub struct Setup {
     pub gravity: Vec<f64>,
     /// d̃ as simulated.
     pub dissipation: f64,
-    /// Bodies with CCD.
+    /// Bodies with rapier's CCD: written `ccd: true`, or chosen by the
+    /// scene's `auto_ccd`.
     pub ccd_bodies: usize,
+    /// Of which chosen by `auto_ccd` (a setting the command adds).
+    pub auto_ccd_bodies: usize,
+    /// Bodies given rapier's soft CCD (`auto_ccd`, native mode only).
+    pub soft_ccd_bodies: usize,
+    /// rapier's contact recycling (`IntegrationParameters::contact_recycling`),
+    /// off with soft CCD.
+    pub contact_recycling: bool,
+    /// Moving bodies whose rotations were locked (`spin` not active).
+    pub locked_rotations: usize,
+    /// Bodies whose friction was set to zero (`friction` not active).
+    pub zeroed_friction: usize,
+    /// Joints (rapier's impulse joints).
+    pub joints: usize,
+    /// Every setting the command adds to rapier beyond what the scene
+    /// writes, one sentence each (empty: the world is the scene as rapier
+    /// builds it). `docs/scenes.md`, "What the command adds", says why.
+    pub added: Vec<String>,
     /// Bodies marked for the law (0 in native mode).
     pub marked_bodies: usize,
     /// Bodies in the scene.
@@ -288,6 +306,13 @@ pub fn build(scene: &Scene, run: &RunOutput) -> Report {
             gravity: scene.effective_gravity(),
             dissipation: scene.effective_law().dissipation,
             ccd_bodies: run.ccd_bodies,
+            auto_ccd_bodies: run.auto_ccd_bodies,
+            soft_ccd_bodies: run.soft_ccd_bodies,
+            contact_recycling: run.contact_recycling,
+            locked_rotations: run.locked_rotations,
+            zeroed_friction: run.zeroed_friction,
+            joints: run.joints,
+            added: added(scene, run),
             marked_bodies: run.law_bodies,
             body_count: scene.bodies.len(),
             substeps: run.substeps,
@@ -342,7 +367,7 @@ impl Balance {
             energy_scale: largest(|s| s.energy_scale),
             momentum_change: norm(&dp),
             momentum_scale: largest(|s| s.momentum_scale),
-            momentum_conserved: !scene.active(Effect::FixedWalls) && !scene.active(Effect::Gravity),
+            momentum_conserved: scene.conserves_momentum(),
             tolerance: match scene.precision {
                 Precision::F64 => TOLERANCE_F64,
                 Precision::F32 => TOLERANCE_F32,
@@ -390,6 +415,68 @@ impl Balance {
         }
         w
     }
+}
+
+/// Every setting the command adds to rapier beyond the scene (see
+/// [`Setup::added`]).
+fn added(scene: &Scene, run: &RunOutput) -> Vec<String> {
+    let mut out = Vec::new();
+    let not_listed = |e: Effect| {
+        if scene.effects.contains(&e) {
+            "listed, but absent from the scene"
+        } else {
+            "not in `effects`"
+        }
+    };
+    if scene.gravity.iter().any(|g| *g != 0.0) && !scene.active(Effect::Gravity) {
+        out.push(format!(
+            "gravity set to zero: \"gravity\" is {}",
+            not_listed(Effect::Gravity)
+        ));
+    }
+    if run.zeroed_friction > 0 {
+        out.push(format!(
+            "friction set to 0 on {} bodies: \"friction\" is not in `effects`",
+            run.zeroed_friction
+        ));
+    }
+    if run.locked_rotations > 0 {
+        out.push(format!(
+            "rotations locked on {} moving bodies (`RigidBodyBuilder::lock_rotations`): \"spin\" is not in `effects`",
+            run.locked_rotations
+        ));
+    }
+    if run.auto_ccd_bodies > 0 {
+        out.push(format!(
+            "CCD (`ccd_enabled`) on {} bodies that could move more than their size in a step: `auto_ccd`",
+            run.auto_ccd_bodies
+        ));
+    }
+    if run.soft_ccd_bodies > 0 {
+        out.push(format!(
+            "soft CCD (`soft_ccd_prediction`) on {} bodies: `auto_ccd`, native mode",
+            run.soft_ccd_bodies
+        ));
+    }
+    if !run.contact_recycling {
+        out.push(
+            "contact recycling off (`IntegrationParameters::contact_recycling`): soft CCD needs every pair looked at in every step"
+                .to_owned(),
+        );
+    }
+    let dissipates = law_dissipates(&scene.law) || scene.materials.iter().any(|m| m.dissipates());
+    if run.mode != crate::Mode::Native && dissipates && !scene.active(Effect::Dissipation) {
+        out.push(format!(
+            "the elastic law for every pair: \"dissipation\" is {}",
+            not_listed(Effect::Dissipation)
+        ));
+    }
+    out
+}
+
+/// Whether law parameters dissipate.
+fn law_dissipates(law: &kimpact::LawParams<f64>) -> bool {
+    law.dissipation > 0.0 || law.wall_dissipation.is_some_and(|w| w > 0.0)
 }
 
 /// The bounding box of the fixed bodies, if the scene has any and it holds
