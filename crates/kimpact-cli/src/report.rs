@@ -199,21 +199,42 @@ pub struct Checks {
     pub momentum_change: f64,
     /// The largest `Σ m |v|` over the run's steps.
     pub momentum_scale: f64,
-    /// Whether the scene conserves momentum: no fixed body and no gravity.
-    /// Only then is `momentum_change` warned about beyond
-    /// `tolerance · momentum_scale`.
+    /// Whether the scene conserves momentum: no fixed body, no gravity, no
+    /// joint to the world or a fixed body. Only then is `momentum_change`
+    /// warned about beyond `tolerance · momentum_scale`.
     pub momentum_conserved: bool,
-    /// The relative tolerance of both warnings: [`TOLERANCE_F64`] or
-    /// [`TOLERANCE_F32`] after the scene's precision.
+    /// The relative tolerance of both warnings, after the precision and the
+    /// integrator's rounding: [`tolerance`].
     pub tolerance: f64,
 }
 
-/// The relative tolerance of the energy and momentum warnings in f64
-/// scenes (docs/scenes.md, "The report").
+/// The least relative tolerance of the energy and momentum warnings in f64
+/// scenes (docs/scenes.md, "The energy balance").
 pub const TOLERANCE_F64: f64 = 1e-9;
 
 /// The same in f32 scenes.
 pub const TOLERANCE_F32: f64 = 1e-5;
+
+/// The relative tolerance of the energy and momentum warnings for a run
+/// of `steps` steps of `substeps` substeps in `precision`:
+///
+/// ```text
+/// max(base, u · steps · substeps),   base = 1e-9 (f64), 1e-5 (f32),
+///                                     u = 2⁻⁵³ (f64), 2⁻²⁴ (f32),
+/// ```
+///
+/// `u` the unit roundoff. Each substep of rapier's integrator (`v += g h`,
+/// `x += v h`) rounds every velocity and position to the nearest value of
+/// the precision, changing `½ m |v|² − m g·x` by up to about `u` of the
+/// energy scale, and a long fall rounds the same way step after step: the
+/// rounding of a run grows with its substeps, not as their square root.
+pub fn tolerance(precision: Precision, steps: u64, substeps: usize) -> f64 {
+    let (base, u) = match precision {
+        Precision::F64 => (TOLERANCE_F64, f64::EPSILON / 2.0),
+        Precision::F32 => (TOLERANCE_F32, f64::from(f32::EPSILON) / 2.0),
+    };
+    base.max(u * steps as f64 * substeps.max(1) as f64)
+}
 
 /// The norm of a vector.
 pub fn norm(v: &[f64]) -> f64 {
@@ -368,22 +389,19 @@ impl Balance {
             momentum_change: norm(&dp),
             momentum_scale: largest(|s| s.momentum_scale),
             momentum_conserved: scene.conserves_momentum(),
-            tolerance: match scene.precision {
-                Precision::F64 => TOLERANCE_F64,
-                Precision::F32 => TOLERANCE_F32,
-            },
+            tolerance: tolerance(scene.precision, run.steps, run.substeps),
         }
     }
 
     /// The warnings of the run: energy unexplained, or momentum changed in a
     /// scene that conserves it, beyond the tolerance (written so that a NaN
-    /// warns).
+    /// warns), each saying what the user can do.
     fn warnings(&self, scene: &Scene, run: &RunOutput) -> Vec<String> {
         let mut w = Vec::new();
         let mode = run.mode.name();
         if !(self.unexplained.abs() <= self.tolerance * self.energy_scale) {
             w.push(format!(
-                "{}: {mode}: energy unexplained {:.3e} is {:.3e} of the energy scale {:.3e} (tolerance {:.0e}): \
+                "{}: {mode}: energy unexplained {:.3e} is {:.3e} of the energy scale {:.3e} (tolerance {:.1e}): \
                  neither the law's dissipation ({:.3e}) nor rapier's integrator ({:.3e}) accounts for it: {}",
                 scene.file,
                 self.unexplained,
@@ -393,10 +411,9 @@ impl Balance {
                 run.stats.dissipated,
                 self.integrator,
                 if self.unexplained > 0.0 {
-                    "energy created, which no mode should do"
+                    created(scene)
                 } else {
-                    "energy lost in rapier's contacts (restitution below 1, friction, resting or \
-                     simultaneous contacts), to sleeping bodies, or to rapier's speed cap"
+                    LOST
                 },
             ));
         }
@@ -404,8 +421,11 @@ impl Balance {
             && !(self.momentum_change <= self.tolerance * self.momentum_scale)
         {
             w.push(format!(
-                "{}: {mode}: momentum changed by {:.3e} ({:.3e} of the momentum scale {:.3e}, tolerance {:.0e}) \
-                 in a scene with no fixed body and no gravity",
+                "{}: {mode}: momentum changed by {:.3e} ({:.3e} of the momentum scale {:.3e}, tolerance {:.1e}) \
+                 in a scene with no fixed body, no gravity and no joint to the world: for example a body \
+                 fell asleep (rapier zeroes the velocity of a body slower than its sleep threshold) or met \
+                 rapier's speed cap; compare the modes with `kimpact compare`, and if no body slows to rest \
+                 or reaches 400 m/s, report the scene",
                 scene.file,
                 self.momentum_change,
                 self.momentum_change / self.momentum_scale,
@@ -472,6 +492,29 @@ fn added(scene: &Scene, run: &RunOutput) -> Vec<String> {
         ));
     }
     out
+}
+
+/// The cause and the remedy of energy lost (a warning's end): the list of
+/// causes is not complete, and says so.
+const LOST: &str = "energy lost, for example in rapier's contacts (restitution below 1, friction, \
+     resting or simultaneous contacts), in rapier's joints, to sleeping bodies, to rapier's speed \
+     cap, or at impacts under gravity (an impact changes the integrator's energy by (h/2) m g·Δv, \
+     docs/scenes.md, \"The energy balance\"): `kimpact compare` shows which modes lose it, and \
+     running the scene without an effect (`effects`) shows which effect does";
+
+/// The cause and the remedy of energy created (a warning's end).
+fn created(scene: &Scene) -> &'static str {
+    match scene.precision {
+        Precision::F32 => {
+            "energy created, which no mode should do unless a rapier restitution above 1 asks for \
+             it: if it is f32 rounding, beyond the tolerance's one rounding per substep, the scene in \
+             precision \"f64\" does not warn; if that warns too, report the scene"
+        }
+        Precision::F64 => {
+            "energy created, which no mode should do unless a rapier restitution above 1 asks for \
+             it: beyond f64's rounding, so report the scene"
+        }
+    }
 }
 
 /// Whether law parameters dissipate.
