@@ -95,4 +95,76 @@ pub enum LawError {
         /// The value given.
         value: f64,
     },
+    /// An angular velocity with a NaN or infinite component (always
+    /// component 0 in 2D).
+    #[error("{which}: angular velocity component {component} must be finite, got {value}")]
+    NonFiniteAngularVelocity {
+        /// Which body.
+        which: Which,
+        /// Index of the first bad component.
+        component: usize,
+        /// The value given.
+        value: f64,
+    },
+    /// An inverse inertia with a NaN or infinite entry (row and column 0 in
+    /// 2D). Use a zero inverse inertia for a body that must not turn.
+    #[error("{which}: inverse inertia entry ({row}, {column}) must be finite, got {value}")]
+    NonFiniteInertia {
+        /// Which body.
+        which: Which,
+        /// Row of the first bad entry.
+        row: usize,
+        /// Column of the first bad entry.
+        column: usize,
+        /// The value given.
+        value: f64,
+    },
+    /// An inverse inertia that is negative (2D) or not positive
+    /// semidefinite beyond rounding (3D): `value` is the negative inverse
+    /// inertia, or the smallest eigenvalue of the 3D matrix.
+    #[error("{which}: inverse inertia must be positive semidefinite, has eigenvalue {value}")]
+    NegativeInertia {
+        /// Which body.
+        which: Which,
+        /// The negative value or eigenvalue.
+        value: f64,
+    },
+    /// A 3D inverse inertia that is not symmetric beyond rounding (64 ulps
+    /// of its largest entry).
+    #[error(
+        "{which}: inverse inertia must be symmetric, entries ({row}, {column}) and ({column}, {row}) differ by {difference}"
+    )]
+    AsymmetricInertia {
+        /// Which body.
+        which: Which,
+        /// Row of the upper entry.
+        row: usize,
+        /// Column of the upper entry.
+        column: usize,
+        /// The upper entry less the lower one.
+        difference: f64,
+    },
+    /// A contact arm (contact point less a body's centre of mass) with a
+    /// NaN or infinite component.
+    #[error("{which}: contact arm component {component} must be finite, got {value}")]
+    NonFiniteArm {
+        /// Which body's arm.
+        which: Which,
+        /// Index of the first bad component.
+        component: usize,
+        /// The value given.
+        value: f64,
+    },
+    /// An impact friction parameter out of its range: `impact_friction`
+    /// (Coulomb's μ) must be finite and `>= 0`, `tangential_restitution`
+    /// (β) in `[−1, 1]`; NaN is neither.
+    #[error("{parameter} must be {expected}, got {value}")]
+    InvalidFriction {
+        /// Which parameter (`impact_friction` or `tangential_restitution`).
+        parameter: &'static str,
+        /// Its range, in words.
+        expected: &'static str,
+        /// The value given.
+        value: f64,
+    },
 }

@@ -2,308 +2,17 @@
 
 use nalgebra::{RealField, SVector};
 
+use crate::body::{Body, Mass};
 use crate::error::{LawError, Which};
+use crate::impact::{Impact, Restitution};
+use crate::num::{half, infinity, to_f64, unit_normal};
+use crate::params::{FixedPartner, LawParams, check_dissipation};
 
 /// Relative tolerance by which the dissipation is reduced below its largest
 /// admissible value when the note's quadratic has complex roots (the
 /// "clamped" case). A clamped impact keeps `sqrt(1e-6) = 1e-3` of its normal
 /// approach speed.
 pub const CLAMP_TOLERANCE: f64 = 1e-6;
-
-/// The mass of a body taking part in an impact.
-#[derive(Copy, Clone, Debug, PartialEq)]
-pub enum Mass<T> {
-    /// A finite, positive mass.
-    Finite(T),
-    /// A fixed or kinematic body: its velocity is prescribed and the impact
-    /// does not change it. See [`FixedPartner`] for how the law treats it.
-    Infinite,
-}
-
-impl<T: RealField + Copy> Mass<T> {
-    /// A finite mass, checked to be finite and positive.
-    pub fn finite(mass: T) -> Result<Self, LawError> {
-        check_mass(mass, Which::Body).map(Mass::Finite)
-    }
-
-    /// Whether this is [`Mass::Infinite`].
-    pub fn is_infinite(&self) -> bool {
-        matches!(self, Mass::Infinite)
-    }
-
-    fn checked(self, which: Which) -> Result<Self, LawError> {
-        match self {
-            Mass::Finite(m) => check_mass(m, which).map(Mass::Finite),
-            Mass::Infinite => Ok(Mass::Infinite),
-        }
-    }
-}
-
-/// A body as the law sees it: a mass and a linear velocity. Built only
-/// through checked constructors, so every `Body` holds finite data.
-#[derive(Copy, Clone, Debug, PartialEq)]
-pub struct Body<T: RealField + Copy, const D: usize> {
-    mass: Mass<T>,
-    velocity: SVector<T, D>,
-}
-
-impl<T: RealField + Copy, const D: usize> Body<T, D> {
-    /// A body of finite mass `mass` moving at `velocity`.
-    ///
-    /// # Errors
-    /// [`LawError::NonFiniteMass`], [`LawError::NonPositiveMass`] or
-    /// [`LawError::NonFiniteVelocity`].
-    pub fn new(mass: T, velocity: SVector<T, D>) -> Result<Self, LawError> {
-        Ok(Self {
-            mass: Mass::Finite(check_mass(mass, Which::Body)?),
-            velocity: check_velocity(velocity, Which::Body)?,
-        })
-    }
-
-    /// A fixed or kinematic body (infinite mass) moving at `velocity`
-    /// (zero for a fixed body).
-    ///
-    /// # Errors
-    /// [`LawError::NonFiniteVelocity`].
-    pub fn immovable(velocity: SVector<T, D>) -> Result<Self, LawError> {
-        Ok(Self {
-            mass: Mass::Infinite,
-            velocity: check_velocity(velocity, Which::Body)?,
-        })
-    }
-
-    /// The body's mass.
-    pub fn mass(&self) -> Mass<T> {
-        self.mass
-    }
-
-    /// The body's velocity.
-    pub fn velocity(&self) -> &SVector<T, D> {
-        &self.velocity
-    }
-
-    /// Kinetic energy `½ m |v|²`; zero for an immovable body (whose energy
-    /// the law never changes).
-    pub fn kinetic_energy(&self) -> T {
-        kinetic_energy(self.mass, &self.velocity)
-    }
-}
-
-/// How the law treats a partner of infinite mass (a fixed or kinematic body:
-/// a wall, a cushion, a floor, a paddle).
-///
-/// The literal law sets `d = d̃ (m₁ + m₂) |v₂ − v₁|²`, which grows without
-/// bound with `m₂`: against an infinite mass every impact with `d̃ > 0` is
-/// clamped, i.e. perfectly plastic up to the `1e-6` tolerance. That is
-/// rarely what a billiards cushion or a pinball wall should do, so the
-/// default is [`FixedPartner::OwnMass`].
-#[derive(Copy, Clone, Debug, Default, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
-pub enum FixedPartner {
-    /// The default. The impact uses the finite body's own mass in place of
-    /// the pair's: `d = d̃_w m |v₂ − v₁|²`, with `d̃_w` the law's
-    /// `wall_dissipation` (equal to `dissipation` unless set). The effective
-    /// restitution against a wall is then `e = sqrt(1 − 2 d̃_w |w|²/u²)`,
-    /// independent of the ball's mass; `d̃_w = 0` is an elastic wall.
-    #[default]
-    OwnMass,
-    /// The note's law taken literally, as the limit `m₂ → ∞`: elastic if
-    /// `dissipation` is zero, otherwise always clamped (the ball keeps
-    /// `1e-3` of its normal speed). `wall_dissipation` is ignored.
-    Literal,
-}
-
-impl FixedPartner {
-    /// Both policies, the default first.
-    pub const ALL: [FixedPartner; 2] = [FixedPartner::OwnMass, FixedPartner::Literal];
-
-    /// The policy's name as in scene files and serde: `"own_mass"` or
-    /// `"literal"`.
-    pub fn name(self) -> &'static str {
-        match self {
-            FixedPartner::OwnMass => "own_mass",
-            FixedPartner::Literal => "literal",
-        }
-    }
-}
-
-impl core::fmt::Display for FixedPartner {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-/// An unknown [`FixedPartner`] name (the name given).
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("unknown fixed partner policy {0:?}: expected \"own_mass\" or \"literal\"")]
-pub struct ParseFixedPartnerError(pub String);
-
-impl core::str::FromStr for FixedPartner {
-    type Err = ParseFixedPartnerError;
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        FixedPartner::ALL
-            .into_iter()
-            .find(|p| p.name() == s)
-            .ok_or_else(|| ParseFixedPartnerError(s.to_owned()))
-    }
-}
-
-/// The law's parameters, as plain data (for configuration files). Turn them
-/// into a [`Law`] with [`Law::new`], which checks them.
-#[derive(Copy, Clone, Debug, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[cfg_attr(
-    feature = "serde",
-    serde(
-        deny_unknown_fields,
-        bound(
-            serialize = "T: serde::Serialize",
-            deserialize = "T: RealField + Copy + serde::Deserialize<'de>"
-        )
-    )
-)]
-pub struct LawParams<T> {
-    /// `d̃ ≥ 0`, the dissipation constant of the note. Zero is elastic.
-    #[cfg_attr(feature = "serde", serde(default = "zero"))]
-    pub dissipation: T,
-    /// `d̃_w ≥ 0`, the dissipation constant against fixed and kinematic
-    /// partners under [`FixedPartner::OwnMass`]; `None` means "same as
-    /// `dissipation`".
-    #[cfg_attr(feature = "serde", serde(default))]
-    pub wall_dissipation: Option<T>,
-    /// The policy for partners of infinite mass.
-    #[cfg_attr(feature = "serde", serde(default))]
-    pub fixed_partner: FixedPartner,
-}
-
-#[cfg(feature = "serde")]
-fn zero<T: RealField>() -> T {
-    T::zero()
-}
-
-impl<T: RealField + Copy> Default for LawParams<T> {
-    fn default() -> Self {
-        Self {
-            dissipation: T::zero(),
-            wall_dissipation: None,
-            fixed_partner: FixedPartner::OwnMass,
-        }
-    }
-}
-
-impl<T> LawParams<T> {
-    /// The same parameters with each constant converted by `f` (a scene
-    /// file's `f64` to an `f32` build's scalar, say). Nothing is checked
-    /// here: [`Law::new`] checks the result, as any parameters.
-    ///
-    /// ```
-    /// use kimpact::{Law, LawParams};
-    ///
-    /// let read = LawParams { dissipation: 0.02_f64, ..Default::default() };
-    /// let law = Law::new(read.map(|x| x as f32))?;
-    /// assert_eq!(law.dissipation(), 0.02_f32);
-    /// assert!(Law::new(LawParams { dissipation: 1e300_f64, ..read }.map(|x| x as f32)).is_err());
-    /// # Ok::<(), kimpact::LawError>(())
-    /// ```
-    pub fn map<U>(self, f: impl Fn(T) -> U) -> LawParams<U> {
-        LawParams {
-            dissipation: f(self.dissipation),
-            wall_dissipation: self.wall_dissipation.map(&f),
-            fixed_partner: self.fixed_partner,
-        }
-    }
-}
-
-impl<T: RealField + Copy> LawParams<T> {
-    /// The parameters under which two reference impacts have the
-    /// restitution coefficients (`e = u'/u`, normal separation speed over
-    /// normal approach speed) `ball_restitution` and `wall_restitution`:
-    ///
-    /// - `ball_restitution`: two bodies of **equal mass** meeting
-    ///   **head-on** (their relative velocity along the normal, no
-    ///   tangential part). The law's `e = sqrt(1 − q)` with
-    ///   `q = 2 d̃ ρ (t + 2 + 1/t)` (see [`Law`]) has `t = 1` and `ρ = 1`
-    ///   there, so `e = sqrt(1 − 8 d̃)` and
-    ///
-    ///   ```text
-    ///   d̃ = (1 − e_ball²) / 8.
-    ///   ```
-    /// - `wall_restitution`: a body of any mass hitting a **fixed or
-    ///   kinematic** body **head-on** under [`FixedPartner::OwnMass`] (which
-    ///   these parameters select): `q = 2 d̃_w ρ`, so `e = sqrt(1 − 2 d̃_w)` and
-    ///
-    ///   ```text
-    ///   d̃_w = (1 − e_wall²) / 2.
-    ///   ```
-    ///
-    /// `1 − e²` is computed as `(1 − e)(1 + e)` (accurate near `e = 1`); the
-    /// law resolves either reference impact back to its `e` with `q` within
-    /// a few ulps `ε` of `1 − e²` (`crates/kimpact/tests/restitution.rs`),
-    /// so `e` within about `ε/e`: 1e-12 in f64 for `e ≥ 4e-4`, 1e-5 in f32
-    /// for `e ≥ 0.05`. `e = 1` is elastic (`d̃ = 0`); `e = 0` is exactly
-    /// plastic (`q = 1`, not clamped) along an axis, and sits on the clamp:
-    /// along another normal, `ρ` rounded a few ulps off 1 gives
-    /// `e ≈ sqrt(ε)` or the clamp's `1e-3`, never more.
-    ///
-    /// **Every other impact has another restitution**, because the law
-    /// dissipates `d = d̃ (m₁ + m₂) |w|²` (`w` the relative velocity,
-    /// tangential part included) out of the normal motion alone. With `r`
-    /// the mass ratio (`t = 1/r`) and `θ` the angle between `w` and the
-    /// normal (`ρ = 1/cos²θ`):
-    ///
-    /// ```text
-    /// e = sqrt(1 − (1 − e_ball²) (r + 2 + 1/r) / (4 cos²θ))   two finite masses,
-    /// e = sqrt(1 − (1 − e_wall²) / cos²θ)                      against a wall,
-    /// ```
-    ///
-    /// clamped (to `e = 1e-3`, see [`CLAMP_TOLERANCE`]) where the root would
-    /// be negative: with `e_ball = 0.8` a head-on impact of masses 1:10 is
-    /// already clamped. `docs/restitution.md` tabulates `e` over mass ratio
-    /// and angle.
-    ///
-    /// # Errors
-    /// [`LawError::InvalidRestitution`] naming `ball_restitution` or
-    /// `wall_restitution` if it is NaN or outside `[0, 1]`.
-    ///
-    /// ```
-    /// use kimpact::{Body, Law, LawParams};
-    /// use kimpact::nalgebra::Vector2;
-    ///
-    /// let law = Law::new(LawParams::from_restitution(0.8_f64, 0.9)?)?;
-    /// let a = Body::new(2.0, Vector2::new(3.0, 0.0))?;
-    /// let b = Body::new(2.0, Vector2::zeros())?;
-    /// let impact = law.resolve(&a, &b, &Vector2::x())?.expect("approaching");
-    /// assert!((impact.restitution - 0.8).abs() < 1e-12);
-    /// # Ok::<(), kimpact::LawError>(())
-    /// ```
-    pub fn from_restitution(ball_restitution: T, wall_restitution: T) -> Result<Self, LawError> {
-        let ball = check_restitution(ball_restitution, "ball_restitution")?;
-        let wall = check_restitution(wall_restitution, "wall_restitution")?;
-        let one = T::one();
-        let loss = |e: T| (one - e) * (one + e);
-        Ok(Self {
-            dissipation: loss(ball) * T::from_subset(&0.125),
-            wall_dissipation: Some(loss(wall) * half::<T>()),
-            fixed_partner: FixedPartner::OwnMass,
-        })
-    }
-}
-
-fn check_restitution<T: RealField + Copy>(
-    value: T,
-    parameter: &'static str,
-) -> Result<T, LawError> {
-    // NaN fails both comparisons.
-    if value >= T::zero() && value <= T::one() {
-        Ok(value)
-    } else {
-        Err(LawError::InvalidRestitution {
-            parameter,
-            value: to_f64(value),
-        })
-    }
-}
 
 /// The mass-weighted k-update of `shared/seed/collision-events.md`.
 ///
@@ -356,83 +65,6 @@ pub struct Law<T: RealField + Copy> {
     fixed_partner: FixedPartner,
 }
 
-/// The effective restitution of one impact, the view of the law a solver
-/// with a restitution coefficient needs.
-#[derive(Copy, Clone, Debug, PartialEq)]
-pub struct Restitution<T> {
-    /// `e = u'/u ∈ [0, 1]`: the normal separation speed after the impact
-    /// over the approach speed before.
-    pub coefficient: T,
-    /// Whether `d` had to be reduced (the note's complex-root case).
-    pub clamped: bool,
-}
-
-/// The outcome of one impact between bodies `a` (1) and `b` (2).
-#[derive(Copy, Clone, Debug, PartialEq)]
-pub struct Impact<T: RealField + Copy, const D: usize> {
-    /// The unit normal `n̄₁`, from `a` towards `b`.
-    pub normal: SVector<T, D>,
-    /// `u = −(v_b − v_a)·n̄ > 0`, the normal approach speed before.
-    pub approach_speed: T,
-    /// `Δv_a = m_b k n̄₂ = −(m_b/M) s n̄`.
-    pub delta_v_a: SVector<T, D>,
-    /// `Δv_b = m_a k n̄₁ = (m_a/M) s n̄`.
-    pub delta_v_b: SVector<T, D>,
-    /// The impulse `J = μ s ≥ 0` along `n̄`, applied as `+J n̄` to `b` and
-    /// `−J n̄` to `a` (for an immovable partner, `μ` is the finite mass).
-    pub impulse: T,
-    /// The effective restitution `e = u'/u`.
-    pub restitution: T,
-    /// The dissipation `d` actually used: the energy lost.
-    pub dissipated: T,
-    /// Whether `d` was reduced because the roots would have been complex.
-    pub clamped: bool,
-}
-
-/// The kinetic energy of a pair of finite bodies before and after an impact
-/// (immovable bodies count zero): see [`Impact::energies`].
-#[derive(Copy, Clone, Debug, PartialEq)]
-pub struct Energies<T> {
-    /// `½ m_a |v_a|² + ½ m_b |v_b|²` before the impact.
-    pub before: T,
-    /// `½ m_a |v_a + Δv_a|² + ½ m_b |v_b + Δv_b|²` after it.
-    pub after: T,
-}
-
-impl<T: RealField + Copy, const D: usize> Impact<T, D> {
-    /// The speed change along the normal, `s = u (1 + e)`: the relative
-    /// normal velocity goes from `−u` to `e u`.
-    pub fn speed_change(&self) -> T {
-        self.approach_speed * (T::one() + self.restitution)
-    }
-
-    /// The note's `k = s / M` for the masses this impact was resolved with
-    /// (zero when a partner is immovable), so that `Δv_a = m_b k n̄₂` and
-    /// `Δv_b = m_a k n̄₁`. For reference only: `k` can under- or overflow
-    /// where `M = m_a + m_b` leaves the range of the type, and the law
-    /// computes no velocity through it.
-    pub fn k(&self, a: Mass<T>, b: Mass<T>) -> T {
-        match (a, b) {
-            (Mass::Finite(ma), Mass::Finite(mb)) => self.speed_change() / (ma + mb),
-            _ => T::zero(),
-        }
-    }
-
-    /// The kinetic energy of `a` and `b` (the bodies this impact was
-    /// resolved with) before and after it. Computed on demand, not by
-    /// [`Law::resolve`]: the adapters never need it, and computing it for
-    /// every impact would slow each one. `before − after` equals
-    /// [`dissipated`](Self::dissipated) up to rounding; the energies can
-    /// overflow where `|v|²` leaves the type's range.
-    pub fn energies(&self, a: &Body<T, D>, b: &Body<T, D>) -> Energies<T> {
-        Energies {
-            before: a.kinetic_energy() + b.kinetic_energy(),
-            after: kinetic_energy(a.mass, &(a.velocity + self.delta_v_a))
-                + kinetic_energy(b.mass, &(b.velocity + self.delta_v_b)),
-        }
-    }
-}
-
 /// `M / μ` of a pair, evaluated lazily (elastic impacts never need it).
 #[derive(Copy, Clone, Debug)]
 enum Growth<T> {
@@ -444,98 +76,50 @@ enum Growth<T> {
     Infinite,
 }
 
+/// What [`Law::coefficient`] found: `q` and `e` as used, and by how much
+/// the asked `q` exceeded the used one.
+#[derive(Copy, Clone, Debug)]
+pub(crate) struct Coefficient<T> {
+    /// The `q = 2 d/(μ u²)` used (`1 − tol` when clamped).
+    pub(crate) q: T,
+    /// `e = sqrt(1 − q)`.
+    pub(crate) e: T,
+    /// Whether the asked `q` exceeded 1.
+    pub(crate) clamped: bool,
+    /// Asked `q` less used `q`: zero unless clamped, infinite when the ask
+    /// is unbounded.
+    pub(crate) excess: T,
+}
+
+impl<T: RealField + Copy> Coefficient<T> {
+    /// The unmet dissipation `½ μ u² (q_asked − q_used)` for the effective
+    /// mass `mass` and approach speed `u`: zero when not clamped, `+∞`
+    /// when the ask is unbounded (never NaN: `∞ · 0` is not formed).
+    #[inline]
+    pub(crate) fn unmet(&self, mass: T, u: T) -> T {
+        if self.excess == T::zero() {
+            T::zero()
+        } else if !self.excess.is_finite() {
+            infinity()
+        } else {
+            half::<T>() * mass * u * u * self.excess
+        }
+    }
+}
+
 /// The mass factors of a pair, computed without multiplying masses.
 #[derive(Copy, Clone, Debug)]
-struct PairMasses<T> {
+pub(crate) struct PairMasses<T> {
     /// `m_a / M`: scales `Δv_b`.
-    frac_a: T,
+    pub(crate) frac_a: T,
     /// `m_b / M`: scales `Δv_a`.
-    frac_b: T,
+    pub(crate) frac_b: T,
     /// `μ = m_a m_b / M` (the finite mass against an immovable partner).
-    reduced: T,
+    pub(crate) reduced: T,
     /// `M / μ = M² / (m_a m_b)`, computed only when d̃ > 0.
     growth: Growth<T>,
     /// Whether one partner is immovable.
     wall: bool,
-}
-
-fn check_mass<T: RealField + Copy>(mass: T, which: Which) -> Result<T, LawError> {
-    if !mass.is_finite() {
-        Err(LawError::NonFiniteMass {
-            which,
-            value: to_f64(mass),
-        })
-    } else if mass <= T::zero() {
-        Err(LawError::NonPositiveMass {
-            which,
-            value: to_f64(mass),
-        })
-    } else {
-        Ok(mass)
-    }
-}
-
-fn check_velocity<T: RealField + Copy, const D: usize>(
-    velocity: SVector<T, D>,
-    which: Which,
-) -> Result<SVector<T, D>, LawError> {
-    match velocity.iter().position(|c| !c.is_finite()) {
-        None => Ok(velocity),
-        Some(component) => Err(LawError::NonFiniteVelocity {
-            which,
-            component,
-            value: to_f64(velocity[component]),
-        }),
-    }
-}
-
-fn check_dissipation<T: RealField + Copy>(
-    value: T,
-    parameter: &'static str,
-) -> Result<T, LawError> {
-    if value.is_finite() && value >= T::zero() {
-        Ok(value)
-    } else {
-        Err(LawError::InvalidDissipation {
-            parameter,
-            value: to_f64(value),
-        })
-    }
-}
-
-/// The unit vector along `normal`, scaled first by its largest component so
-/// that neither tiny nor huge normals under- or overflow.
-pub(crate) fn unit_normal<T: RealField + Copy, const D: usize>(
-    normal: &SVector<T, D>,
-) -> Result<SVector<T, D>, LawError> {
-    if let Some(component) = normal.iter().position(|c| !c.is_finite()) {
-        return Err(LawError::NonFiniteNormal {
-            component,
-            value: to_f64(normal[component]),
-        });
-    }
-    let scale = normal.amax();
-    if scale == T::zero() {
-        return Err(LawError::ZeroNormal);
-    }
-    let scaled = normal / scale;
-    Ok(scaled / scaled.norm())
-}
-
-#[inline]
-fn kinetic_energy<T: RealField + Copy, const D: usize>(mass: Mass<T>, v: &SVector<T, D>) -> T {
-    match mass {
-        Mass::Finite(m) => m * v.norm_squared() * half::<T>(),
-        Mass::Infinite => T::zero(),
-    }
-}
-
-fn half<T: RealField + Copy>() -> T {
-    T::from_subset(&0.5)
-}
-
-fn to_f64<T: RealField + Copy>(x: T) -> f64 {
-    x.to_subset().unwrap_or(f64::NAN)
 }
 
 impl<T: RealField + Copy> TryFrom<LawParams<T>> for Law<T> {
@@ -653,7 +237,7 @@ impl<T: RealField + Copy> Law<T> {
     }
 
     #[inline]
-    fn pair_masses(&self, a: Mass<T>, b: Mass<T>) -> Option<PairMasses<T>> {
+    pub(crate) fn pair_masses(&self, a: Mass<T>, b: Mass<T>) -> Option<PairMasses<T>> {
         let one = T::one();
         let wall_growth = match self.fixed_partner {
             FixedPartner::OwnMass => Growth::One,
@@ -704,7 +288,15 @@ impl<T: RealField + Copy> Law<T> {
     /// restitution. `q` may be infinite (grazing impacts, extreme mass
     /// ratios, literal walls): that is the clamped case, never a NaN.
     #[inline]
-    fn coefficient(&self, pair: &PairMasses<T>, rho: impl FnOnce() -> T) -> (T, Restitution<T>) {
+    ///
+    /// `factor` multiplies `M/μ` (the rigid law's `1 + μ (a₁ + a₂)`, so
+    /// that `M/μ · factor = M/m_eff`); the ball law passes exactly 1.
+    pub(crate) fn coefficient(
+        &self,
+        pair: &PairMasses<T>,
+        rho: impl FnOnce() -> T,
+        factor: T,
+    ) -> Coefficient<T> {
         let dissipation = if pair.wall && self.fixed_partner == FixedPartner::OwnMass {
             self.wall_dissipation
         } else {
@@ -712,40 +304,43 @@ impl<T: RealField + Copy> Law<T> {
         };
         let one = T::one();
         if dissipation == T::zero() {
-            return (
-                T::zero(),
-                Restitution {
-                    coefficient: one,
-                    clamped: false,
-                },
-            );
+            return Coefficient {
+                q: T::zero(),
+                e: one,
+                clamped: false,
+                excess: T::zero(),
+            };
         }
         let growth = match pair.growth {
             Growth::Ratio(t) => Some(t + (one + one) + one / t),
             Growth::One => Some(one),
             Growth::Infinite => None,
         };
-        let q = growth.map(|growth| (dissipation + dissipation) * rho() * growth);
+        let q = growth.map(|growth| (dissipation + dissipation) * rho() * (growth * factor));
         match q {
-            Some(q) if q <= one => (
+            Some(q) if q <= one => Coefficient {
                 q,
-                Restitution {
-                    coefficient: (one - q).sqrt(),
-                    clamped: false,
-                },
-            ),
+                e: (one - q).sqrt(),
+                clamped: false,
+                excess: T::zero(),
+            },
             // Complex roots (or an infinite q): reduce d to (1 − tol) d_max,
             // so that e² = 1 − q = tol. `e` is taken from tol directly: in
             // f32, 1 − (1 − 1e-6) would be off by 1.3%.
             _ => {
                 let tol = T::from_subset(&CLAMP_TOLERANCE);
-                (
-                    one - tol,
-                    Restitution {
-                        coefficient: tol.sqrt(),
-                        clamped: true,
+                let used = one - tol;
+                Coefficient {
+                    q: used,
+                    e: tol.sqrt(),
+                    clamped: true,
+                    // The asked q less the used one (≥ tol); infinite for a
+                    // literal wall or a q beyond the type's range.
+                    excess: match q {
+                        Some(q) => q - used,
+                        None => infinity(),
                     },
-                )
+                }
             }
         }
     }
@@ -792,7 +387,12 @@ impl<T: RealField + Copy> Law<T> {
         };
         let ratio = tangential_speed / approach_speed;
         let rho = T::one() + ratio * ratio;
-        Ok(Some(self.coefficient(&pair, || rho).1))
+        let c = self.coefficient(&pair, || rho, T::one());
+        Ok(Some(Restitution {
+            coefficient: c.e,
+            clamped: c.clamped,
+            unmet_dissipation: c.unmet(pair.reduced, approach_speed),
+        }))
     }
 
     /// Resolve one impact between `a` and `b`, `normal` pointing from `a`
@@ -819,7 +419,7 @@ impl<T: RealField + Copy> Law<T> {
 
     /// [`Law::resolve`] for a normal the caller guarantees to be a finite
     /// unit vector (as a physics engine's contact normal is). No allocation,
-    /// no error path: the hot loop of the adapters.
+    /// no error path: the hot loop of an engine integration.
     #[inline]
     pub fn resolve_unit<const D: usize>(
         &self,
@@ -834,18 +434,22 @@ impl<T: RealField + Copy> Law<T> {
             return None;
         }
         let pair = self.pair_masses(a.mass, b.mass)?;
-        let (q, restitution) = self.coefficient(&pair, || {
-            // ρ = (|w|/u)². For a subnormal u, 1/u overflows and a zero
-            // component of w would make ρ NaN (then misread as clamped):
-            // divide instead on that rare path.
-            let inverse = T::one() / approach_speed;
-            if inverse.is_finite() {
-                (w * inverse).norm_squared()
-            } else {
-                (w / approach_speed).norm_squared()
-            }
-        });
-        let e = restitution.coefficient;
+        let c = self.coefficient(
+            &pair,
+            || {
+                // ρ = (|w|/u)². For a subnormal u, 1/u overflows and a zero
+                // component of w would make ρ NaN (then misread as clamped):
+                // divide instead on that rare path.
+                let inverse = T::one() / approach_speed;
+                if inverse.is_finite() {
+                    (w * inverse).norm_squared()
+                } else {
+                    (w / approach_speed).norm_squared()
+                }
+            },
+            T::one(),
+        );
+        let e = c.e;
         let s = approach_speed * (T::one() + e);
         // `s <= 2u` overflows only for u above half the largest finite
         // value: the velocity change is not representable (and `n̄ · ∞` would
@@ -864,12 +468,13 @@ impl<T: RealField + Copy> Law<T> {
             impulse: pair.reduced * s,
             restitution: e,
             // ½ μ u² may overflow: `∞ · 0` would be NaN for an elastic impact.
-            dissipated: if q == T::zero() {
+            dissipated: if c.q == T::zero() {
                 T::zero()
             } else {
-                half::<T>() * pair.reduced * approach_speed * approach_speed * q
+                half::<T>() * pair.reduced * approach_speed * approach_speed * c.q
             },
-            clamped: restitution.clamped,
+            clamped: c.clamped,
+            unmet_dissipation: c.unmet(pair.reduced, approach_speed),
         })
     }
 }

@@ -1,41 +1,41 @@
-//! The plain types every kimpact crate shares: the accuracy ladder, the
-//! precision of a build, and the resolver's running totals. They are
-//! defined once here and re-exported by the rapier adapters (`kimpact3d::Mode`
-//! is `kimpact::Mode`), so one value crosses from one adapter crate, or from
-//! a scene file, to another without conversion.
+//! The names an engine integration and its users share: the accuracy
+//! ladder ([`Mode`]) and the floating-point precision of a build
+//! ([`Precision`]). They are defined once here, with no engine in sight, so
+//! that one value crosses from one integration crate, or from a scene file,
+//! to another without conversion.
 
 use core::fmt;
 use core::str::FromStr;
 
-/// How kimpact takes part in a step of a rapier adapter: the accuracy
+/// How kimpact takes part in a step of an engine integration: the accuracy
 /// ladder, cheapest first (the order of `Ord`).
 ///
 /// | mode | who finds the impacts | who applies the law | when |
 /// | --- | --- | --- | --- |
-/// | `Native` | rapier | nobody: rapier unchanged | — |
-/// | `Restitution` | rapier (kimpact for bodies fast enough to tunnel) | rapier's solver, with the law's restitution per manifold (kimpact, for those fast bodies) | at detection (at the time of impact) |
-/// | `Impulse` | rapier's contacts (kimpact for bodies fast enough to tunnel) | kimpact, in time order | at the analytic time of impact, inside the step |
-/// | `Exact` | rapier's contacts and kimpact's sweeps of every body that outruns rapier's prediction distance | kimpact, in time order | at the analytic time of impact, inside the step |
+/// | `Native` | the engine | nobody: the engine unchanged | — |
+/// | `Restitution` | the engine (kimpact for bodies fast enough to tunnel) | the engine's solver, with the law's restitution per contact manifold (kimpact, for those fast bodies) | at detection (at the time of impact) |
+/// | `Impulse` | the engine's contacts (kimpact for bodies fast enough to tunnel) | kimpact, in time order | at the analytic time of impact, inside the step |
+/// | `Exact` | the engine's contacts and kimpact's sweeps of every body that outruns the engine's contact prediction distance | kimpact, in time order | at the analytic time of impact, inside the step |
 ///
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum Mode {
-    /// rapier unchanged (for comparisons from the same code).
+    /// The engine unchanged (for comparisons from the same code).
     Native,
     /// The law's effective restitution `e = u'/u` is written into each new
-    /// manifold of a marked pair; rapier's solver applies it. Cheapest; exact
-    /// for an isolated impact, inherits rapier's errors when contacts are
+    /// manifold of a marked pair; the engine's solver applies it. Cheapest;
+    /// exact for an isolated impact, inherits the solver's errors when contacts are
     /// simultaneous (Newton's cradle). A body that moves more than a
     /// quarter of its size per step (which could sink into a partner by
     /// more than a radius, cross it, or leave its box between two of
-    /// rapier's contacts) is the replay's instead: its pairs are resolved
+    /// the engine's contacts) is the replay's instead: its pairs are resolved
     /// after the step as in `Impulse`.
     Restitution,
-    /// The replay of `Exact` on the pairs rapier's contacts hold (and those
+    /// The replay of `Exact` on the pairs the engine's contacts hold (and those
     /// of bodies that move more than half their size per step): the law at
     /// each impact's time of impact, in time order, chains through touching
-    /// bodies, positions written back. A pair that rapier's contacts did
+    /// bodies, positions written back. A pair that the engine's contacts did
     /// not reach at the step's start (farther apart than its prediction
     /// distance) is first seen overlapping at the next step and rewound to
     /// its time of impact then; a graze that begins and ends within one
@@ -45,8 +45,8 @@ pub enum Mode {
     /// Impacts are resolved in time order inside the step at their analytic
     /// time of impact (with rewinds for pairs first seen overlapping, and
     /// chains through touching bodies), positions written back; every body
-    /// that moves more than half rapier's prediction distance per step is
-    /// swept, so no impact waits for rapier's contacts.
+    /// that moves more than half the engine's contact prediction distance
+    /// per step is swept, so no impact waits for the engine's contacts.
     #[default]
     Exact,
 }
@@ -87,18 +87,17 @@ impl FromStr for Mode {
     }
 }
 
-/// The floating-point precision of a build: which rapier crates an adapter
-/// links (`kimpact2d`/`kimpact3d`: f32; `kimpact2d-f64`/`kimpact3d-f64`:
-/// f64). Each adapter states its own as `math::PRECISION`. Its names are
-/// `f32` and `f64` in [`Display`](fmt::Display), [`FromStr`] and serde.
+/// The floating-point precision of a build: the scalar an engine
+/// integration is compiled for. Its names are `f32` and `f64` in
+/// [`Display`](fmt::Display), [`FromStr`] and serde.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum Precision {
-    /// `f32`: rapier2d, rapier3d.
+    /// Single precision, `f32`.
     #[default]
     F32,
-    /// `f64`: rapier2d-f64, rapier3d-f64.
+    /// Double precision, `f64`.
     F64,
 }
 
@@ -134,32 +133,6 @@ impl FromStr for Precision {
             .find(|p| p.name() == s)
             .ok_or_else(|| ParsePrecisionError(s.to_owned()))
     }
-}
-
-/// A rapier adapter's running totals since its resolver was built (or
-/// reset): the same type in every adapter crate, whatever its dimension
-/// and precision.
-#[derive(Copy, Clone, Debug, Default, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct Stats {
-    /// Impacts resolved by the law.
-    pub impacts: u64,
-    /// Of which clamped.
-    pub clamped: u64,
-    /// Total energy dissipated by the law (f64 whatever the precision).
-    pub dissipated: f64,
-    /// Pairs skipped because a body had a non-finite velocity or mass.
-    pub skipped_non_finite: u64,
-    /// Exact-mode steps that hit the event cap and handed the rest of the
-    /// step to rapier.
-    pub event_cap_hits: u64,
-    /// Steps taken through kimpact.
-    pub steps: u64,
-    /// Fast bodies left without the contact hook because every partner
-    /// they could touch moved with them (the adapters'
-    /// `Config::calm_neighbourhoods`), summed over the steps.
-    #[cfg_attr(feature = "serde", serde(default))]
-    pub calm_bodies: u64,
 }
 
 #[cfg(test)]
