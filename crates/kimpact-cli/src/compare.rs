@@ -412,6 +412,17 @@ fn summary(
         }
         let _ = writeln!(s);
     }
+    let clamps: Vec<&String> = reports
+        .iter()
+        .filter_map(|r| r.impacts.clamps.as_ref())
+        .collect();
+    if !clamps.is_empty() {
+        let _ = writeln!(s, "## Clamped impacts\n");
+        for c in clamps {
+            let _ = writeln!(s, "- {c}");
+        }
+        let _ = writeln!(s);
+    }
     let cells = |row: &[String]| {
         let escaped: Vec<String> = row.iter().map(|c| c.replace('|', "\\|")).collect();
         format!("| {} |", escaped.join(" | "))

@@ -22,6 +22,7 @@ use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 
 mod animation;
+mod clamps;
 mod compare;
 mod error;
 mod html;
@@ -207,6 +208,9 @@ fn run(
     // The scene's own warnings were printed when it was loaded.
     for w in &report.warnings[scene.warnings.len()..] {
         eprintln!("warning: {w}");
+    }
+    if let Some(c) = &report.impacts.clamps {
+        eprintln!("note: {c}");
     }
     let mut json = serde_json::to_string_pretty(&report)
         .map_err(|e| CliError::Internal(format!("cannot encode the report: {e}")))?;

@@ -106,6 +106,15 @@ pub struct Impacts {
     pub clamped: u64,
     /// Energy dissipated by the law.
     pub dissipated: f64,
+    /// Dissipation the clamped impacts asked for beyond what their normal
+    /// motion held (`kimpact::Stats::unmet_dissipation`).
+    pub unmet_dissipation: f64,
+    /// Clamped impacts whose ask was unbounded (walls under
+    /// `fixed_partner: "literal"`).
+    pub unbounded_clamps: u64,
+    /// When at least a tenth of the impacts were clamped: whose clamps they
+    /// are (the law's, or rounding) and what to do (see `crate::clamps`).
+    pub clamps: Option<String>,
     /// Pairs skipped for non-finite data.
     pub skipped_non_finite: u64,
     /// Exact-mode steps that hit the event cap.
@@ -311,6 +320,9 @@ pub fn build(scene: &Scene, run: &RunOutput) -> Report {
             count: run.stats.impacts,
             clamped: run.stats.clamped,
             dissipated: run.stats.dissipated,
+            unmet_dissipation: run.stats.unmet_dissipation,
+            unbounded_clamps: run.stats.unbounded_clamps,
+            clamps: crate::clamps::Clamps::of(&run.stats).explain(run.mode),
             skipped_non_finite: run.stats.skipped_non_finite,
             event_cap_hits: run.stats.event_cap_hits,
         },
