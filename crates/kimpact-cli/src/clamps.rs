@@ -3,7 +3,7 @@
 //! holds) told from rounding, by the share of the asked dissipation the
 //! clamps could not take (`kimpact::Stats::unmet_dissipation`).
 
-use crate::Mode;
+use kimpact::Mode;
 
 /// The share of impacts clamped from which a run explains its clamps.
 pub const LARGE_SHARE: f64 = 0.1;

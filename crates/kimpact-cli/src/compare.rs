@@ -11,24 +11,17 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use crate::Mode;
+use kimpact::Mode;
+
 use crate::error::CliError;
 use crate::html;
+use crate::palette::mode_color;
 use crate::plot::{self, Series};
 use crate::render;
 use crate::report::{self, Report, norm};
 use crate::scene::Scene;
+use crate::shown::shown_steps;
 use crate::sim::{self, Frame, RunOutput};
-
-/// The colour of each mode in plots, pictures, the page and the animation.
-pub fn mode_color(mode: Mode) -> (u8, u8, u8) {
-    match mode {
-        Mode::Native => (90, 90, 90),
-        Mode::Restitution => (230, 159, 0),
-        Mode::Impulse => (0, 158, 115),
-        Mode::Exact => (0, 114, 178),
-    }
-}
 
 /// What `compare` writes besides the reports, summary, plots, pictures and
 /// page.
@@ -65,7 +58,7 @@ pub fn compare(
     // The page's steps (every step, or every stride-th in long runs) and
     // the animation's: recorded together with the pictures' in one run.
     let stride = html::stride(steps, html::values_per_step(scene), Mode::ALL.len() as u64);
-    let shown = html::shown_steps(steps, stride);
+    let shown = shown_steps(steps, stride);
     let gif_steps = if extras.gif {
         crate::animation::steps(scene.dt, steps)
     } else {
@@ -83,7 +76,7 @@ pub fn compare(
 
     let mut runs: Vec<RunOutput> = Vec::new();
     for mode in Mode::ALL {
-        let bar = crate::progress_bar(steps, mode.name());
+        let bar = crate::progress::progress_bar(steps, mode.name());
         runs.push(sim::run(scene, mode, steps, &recorded, bar.as_ref()));
         if let Some(b) = bar {
             b.finish_and_clear();

@@ -497,7 +497,7 @@ fn added(scene: &Scene, run: &RunOutput) -> Vec<String> {
         );
     }
     let dissipates = law_dissipates(&scene.law) || scene.materials.iter().any(|m| m.dissipates());
-    if run.mode != crate::Mode::Native && dissipates && !scene.active(Effect::Dissipation) {
+    if run.mode != kimpact::Mode::Native && dissipates && !scene.active(Effect::Dissipation) {
         out.push(format!(
             "the elastic law for every pair: \"dissipation\" is {}",
             not_listed(Effect::Dissipation)
