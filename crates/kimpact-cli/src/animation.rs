@@ -9,8 +9,9 @@
 
 use tiny_skia::{Color, Paint, Pixmap, PixmapPaint, Rect, Transform};
 
-use crate::Mode;
-use crate::compare::mode_color;
+use kimpact::Mode;
+
+use crate::palette::mode_color;
 use crate::render::{self, Bounds};
 use crate::scene::Scene;
 use crate::sim::Frame;
@@ -39,7 +40,7 @@ pub fn steps(dt: f64, steps: u64) -> Vec<u64> {
         1
     };
     let g = by_rate.max(steps.div_ceil(MAX_FRAMES)).max(1);
-    crate::html::shown_steps(steps, g)
+    crate::shown::shown_steps(steps, g)
 }
 
 /// Hundredths of a second between frames at `times` (seconds), rounded so

@@ -11,24 +11,17 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use crate::Mode;
+use kimpact::Mode;
+
 use crate::error::CliError;
 use crate::html;
+use crate::palette::mode_color;
 use crate::plot::{self, Series};
 use crate::render;
 use crate::report::{self, Report, norm};
 use crate::scene::Scene;
+use crate::shown::shown_steps;
 use crate::sim::{self, Frame, RunOutput};
-
-/// The colour of each mode in plots, pictures, the page and the animation.
-pub fn mode_color(mode: Mode) -> (u8, u8, u8) {
-    match mode {
-        Mode::Native => (90, 90, 90),
-        Mode::Restitution => (230, 159, 0),
-        Mode::Impulse => (0, 158, 115),
-        Mode::Exact => (0, 114, 178),
-    }
-}
 
 /// What `compare` writes besides the reports, summary, plots, pictures and
 /// page.
@@ -65,7 +58,7 @@ pub fn compare(
     // The page's steps (every step, or every stride-th in long runs) and
     // the animation's: recorded together with the pictures' in one run.
     let stride = html::stride(steps, html::values_per_step(scene), Mode::ALL.len() as u64);
-    let shown = html::shown_steps(steps, stride);
+    let shown = shown_steps(steps, stride);
     let gif_steps = if extras.gif {
         crate::animation::steps(scene.dt, steps)
     } else {
@@ -83,7 +76,7 @@ pub fn compare(
 
     let mut runs: Vec<RunOutput> = Vec::new();
     for mode in Mode::ALL {
-        let bar = crate::progress_bar(steps, mode.name());
+        let bar = crate::progress::progress_bar(steps, mode.name());
         runs.push(sim::run(scene, mode, steps, &recorded, bar.as_ref()));
         if let Some(b) = bar {
             b.finish_and_clear();
@@ -345,9 +338,41 @@ fn table(reports: &[Report]) -> html::Table {
         .collect();
     let tol = reports.first().map_or(0.0, |r| r.checks.tolerance);
     let note = format!(
-        "Impacts, clamped and dissipated are kimpact's counts (none in native mode). Energy integrator = −(h/2) Σ m g·(v_final − v_initial), h = dt / substeps: the part of the total energy change that rapier's symplectic Euler integration accounts for (zero without gravity). Energy unexplained = total energy change + dissipated − energy integrator: negative is energy lost in rapier's contacts, positive is energy created; a warning above names each mode where it exceeds the tolerance (relative to the energy scale: {tol:.0e}). Momentum changes through fixed bodies and gravity; without either, a change beyond the same tolerance (relative to the momentum scale) is warned about too. Max penetration is the deepest contact seen, over the smaller body's size; crossings counts pairs of balls that passed through each other within a step; escaped counts moving bodies that left the box of the fixed bodies."
+        "Impacts, clamped and dissipated are kimpact's counts (none in native mode). Energy integrator = −(h/2) Σ m g·(v_final − v_initial), h = dt / substeps: the part of the total energy change that rapier's symplectic Euler integration accounts for (zero without gravity). Energy unexplained = total energy change + dissipated − energy integrator: negative is energy lost (in rapier's contacts or joints, for example), positive is energy created; a warning above names each mode where it exceeds the tolerance (relative to the energy scale: {tol:.1e}, the precision's rounding over the run's substeps). Momentum changes through fixed bodies, gravity and joints to the world; without them, a change beyond the same tolerance (relative to the momentum scale) is warned about too. Max penetration is the deepest contact seen, over the smaller body's size; crossings counts pairs of balls that passed through each other within a step; escaped counts moving bodies that left the box of the fixed bodies."
     );
     html::Table { header, rows, note }
+}
+
+/// The summary's "Settings the command adds": the settings of every mode,
+/// then each mode's own (see `report::Setup::added`).
+fn added(s: &mut String, reports: &[Report]) {
+    let _ = writeln!(s, "## Settings the command adds\n");
+    let all: Vec<&String> = reports
+        .first()
+        .map(|r| r.setup.added.iter().collect())
+        .unwrap_or_default();
+    let common: Vec<&String> = all
+        .into_iter()
+        .filter(|a| reports.iter().all(|r| r.setup.added.contains(a)))
+        .collect();
+    let mut any = false;
+    for a in &common {
+        let _ = writeln!(s, "- every mode: {a}");
+        any = true;
+    }
+    for r in reports {
+        for a in r.setup.added.iter().filter(|a| !common.contains(a)) {
+            let _ = writeln!(s, "- {}: {a}", r.mode);
+            any = true;
+        }
+    }
+    if !any {
+        let _ = writeln!(
+            s,
+            "None: every mode runs the scene's bodies as rapier builds them."
+        );
+    }
+    let _ = writeln!(s);
 }
 
 /// The markdown summary.
@@ -368,6 +393,7 @@ fn summary(
         let _ = writeln!(s, "{d}\n");
     }
     let _ = writeln!(s, "{}\n", setup_line(scene, steps));
+    added(&mut s, reports);
     let run_warnings: Vec<&String> = reports
         .iter()
         .flat_map(|r| &r.warnings[scene.warnings.len()..])
@@ -376,6 +402,17 @@ fn summary(
         let _ = writeln!(s, "## Warnings\n");
         for w in scene.warnings.iter().chain(run_warnings) {
             let _ = writeln!(s, "- {w}");
+        }
+        let _ = writeln!(s);
+    }
+    let clamps: Vec<&String> = reports
+        .iter()
+        .filter_map(|r| r.impacts.clamps.as_ref())
+        .collect();
+    if !clamps.is_empty() {
+        let _ = writeln!(s, "## Clamped impacts\n");
+        for c in clamps {
+            let _ = writeln!(s, "- {c}");
         }
         let _ = writeln!(s);
     }

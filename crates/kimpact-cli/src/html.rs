@@ -7,7 +7,7 @@
 //! The page itself is the template `compare.html` next to this file; this
 //! module chooses which steps it shows ([`stride`]) and fills in the data:
 //! body shapes and colours (the pictures' colours, [`crate::render::color`],
-//! and the plots' mode colours, [`crate::compare::mode_color`]), the view
+//! and the plots' mode colours, [`crate::palette::mode_color`]), the view
 //! (the pictures' projection and bounds), and per mode the positions (and
 //! turning boxes' rotations) at every shown step as little-endian `f32`
 //! arrays in base64.
@@ -15,7 +15,7 @@
 use base64::Engine as _;
 use serde::Serialize;
 
-use crate::compare::mode_color;
+use crate::palette::mode_color;
 use crate::render::{self, Bounds};
 use crate::scene::{Effect, Scene, Shape};
 use crate::sim::{Frame, RunOutput};
@@ -73,15 +73,6 @@ pub fn stride(steps: u64, values: u64, modes: u64) -> u64 {
     let shown = (MAX_VALUES / per_step).max(2);
     // `shown` frames: the start, every stride-th step, and the last step.
     steps.div_ceil(shown - 1).max(1)
-}
-
-/// The steps the page shows: 0, `stride`, 2 `stride`, … and the last step.
-pub fn shown_steps(steps: u64, stride: u64) -> Vec<u64> {
-    let mut out: Vec<u64> = (0..=steps).step_by(stride.max(1) as usize).collect();
-    if out.last() != Some(&steps) {
-        out.push(steps);
-    }
-    out
 }
 
 /// One body as the page draws it.
@@ -192,7 +183,7 @@ fn escape(s: &str) -> String {
 
 /// The steps a page shows and each run's frames at them.
 pub struct Shown<'a> {
-    /// The steps ([`shown_steps`]).
+    /// The steps ([`crate::shown::shown_steps`]).
     pub steps: &'a [u64],
     /// One step in `stride` ([`stride`]).
     pub stride: u64,
@@ -327,6 +318,7 @@ pub fn page(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::shown::shown_steps;
 
     #[test]
     fn short_runs_show_every_step() {

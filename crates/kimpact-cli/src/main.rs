@@ -14,21 +14,24 @@
 // Comparisons written as `!(a < b)` are meant to be true for NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use std::io::{IsTerminal, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
-use indicatif::{ProgressBar, ProgressStyle};
 
 mod animation;
+mod clamps;
 mod compare;
 mod error;
 mod html;
 mod output;
+mod palette;
 mod plot;
+mod progress;
 mod render;
 mod report;
+mod shown;
 mod sim;
 
 use error::CliError;
@@ -142,12 +145,13 @@ fn execute(cli: Cli) -> Result<(), CliError> {
         Command::Check { scene } => {
             let scene = load(&scene)?;
             println!(
-                "{}: ok: {}D {}, {} bodies ({} fixed), {} steps of {} s, mode {}, effects [{}]",
+                "{}: ok: {}D {}, {} bodies ({} fixed), {} joints, {} steps of {} s, mode {}, effects [{}]",
                 scene.file,
                 scene.dim,
                 scene.precision.name(),
                 scene.bodies.len(),
                 scene.bodies.iter().filter(|b| b.fixed).count(),
+                scene.joints.len(),
                 scene.steps,
                 scene.dt,
                 scene.mode,
@@ -197,7 +201,7 @@ fn run(
     }
     let mode = mode.unwrap_or(scene.mode);
     let steps = steps.unwrap_or(scene.steps);
-    let bar = progress_bar(steps, mode.name());
+    let bar = progress::progress_bar(steps, mode.name());
     let result = sim::run(&scene, mode, steps, &[], bar.as_ref());
     if let Some(b) = bar {
         b.finish_and_clear();
@@ -206,6 +210,9 @@ fn run(
     // The scene's own warnings were printed when it was loaded.
     for w in &report.warnings[scene.warnings.len()..] {
         eprintln!("warning: {w}");
+    }
+    if let Some(c) = &report.impacts.clamps {
+        eprintln!("note: {c}");
     }
     let mut json = serde_json::to_string_pretty(&report)
         .map_err(|e| CliError::Internal(format!("cannot encode the report: {e}")))?;
@@ -220,19 +227,4 @@ fn run(
                 .map_err(|e| CliError::Internal(format!("cannot write to standard output: {e}")))
         }
     }
-}
-
-/// A progress bar on standard error when it is a terminal, nothing otherwise.
-pub(crate) fn progress_bar(steps: u64, label: &str) -> Option<ProgressBar> {
-    if !std::io::stderr().is_terminal() {
-        return None;
-    }
-    let bar = ProgressBar::new(steps);
-    if let Ok(style) =
-        ProgressStyle::with_template("{prefix:>12} [{bar:40}] {pos}/{len} steps ({eta})")
-    {
-        bar.set_style(style.progress_chars("=> "));
-    }
-    bar.set_prefix(label.to_owned());
-    Some(bar)
 }

@@ -6,7 +6,7 @@ use tiny_skia::{
     Color, FillRule, Paint, PathBuilder, Pixmap, PixmapPaint, Rect, Stroke, Transform,
 };
 
-use crate::scene::{Scene, Shape};
+use crate::scene::{JointEnd, Scene, Shape};
 use crate::sim::{BodyState, Frame};
 
 /// A rectangle of the view plane: lower and upper corners.
@@ -190,6 +190,7 @@ pub fn frame(scene: &Scene, bodies: &[BodyState], b: &Bounds) -> Option<Pixmap> 
         width: 1.0,
         ..Stroke::default()
     };
+    joints(scene, bodies, &map, &mut pixmap);
     for i in order {
         let s = &bodies[i];
         if !s.position.iter().all(|x| x.is_finite()) {
@@ -265,6 +266,53 @@ pub fn frame(scene: &Scene, bodies: &[BodyState], b: &Bounds) -> Option<Pixmap> 
         }
     }
     Some(pixmap)
+}
+
+/// The joints, behind the bodies: a thin line from each jointed body's
+/// centre to its anchor, and a small square at an anchor on the world.
+fn joints(
+    scene: &Scene,
+    bodies: &[BodyState],
+    map: &impl Fn(&[f64]) -> (f32, f32),
+    pixmap: &mut Pixmap,
+) {
+    let mut paint = Paint {
+        anti_alias: true,
+        ..Paint::default()
+    };
+    paint.set_color_rgba8(60, 60, 60, 255);
+    let thin = Stroke {
+        width: 1.0,
+        ..Stroke::default()
+    };
+    for j in &scene.joints {
+        for (end, anchor) in [(j.body1, &j.anchor1), (j.body2, &j.anchor2)] {
+            match end {
+                JointEnd::World => {
+                    let (x, y) = map(anchor);
+                    if let Some(r) = Rect::from_xywh(x - 2.0, y - 2.0, 4.0, 4.0) {
+                        pixmap.fill_rect(r, &paint, Transform::identity(), None);
+                    }
+                }
+                JointEnd::Body(i) => {
+                    let s = &bodies[i];
+                    let off = rotate(&s.rotation, anchor);
+                    let at: Vec<f64> = s.position.iter().zip(&off).map(|(p, o)| p + o).collect();
+                    if !at.iter().chain(&s.position).all(|x| x.is_finite()) {
+                        continue;
+                    }
+                    let (x0, y0) = map(&s.position);
+                    let (x1, y1) = map(&at);
+                    let mut pb = PathBuilder::new();
+                    pb.move_to(x0, y0);
+                    pb.line_to(x1, y1);
+                    if let Some(path) = pb.finish() {
+                        pixmap.stroke_path(&path, &paint, &thin, Transform::identity(), None);
+                    }
+                }
+            }
+        }
+    }
 }
 
 /// One row of the strip: its panels and its mode's colour.

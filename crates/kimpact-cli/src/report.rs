@@ -106,6 +106,15 @@ pub struct Impacts {
     pub clamped: u64,
     /// Energy dissipated by the law.
     pub dissipated: f64,
+    /// Dissipation the clamped impacts asked for beyond what their normal
+    /// motion held (`kimpact::Stats::unmet_dissipation`).
+    pub unmet_dissipation: f64,
+    /// Clamped impacts whose ask was unbounded (walls under
+    /// `fixed_partner: "literal"`).
+    pub unbounded_clamps: u64,
+    /// When at least a tenth of the impacts were clamped: whose clamps they
+    /// are (the law's, or rounding) and what to do (see `crate::clamps`).
+    pub clamps: Option<String>,
     /// Pairs skipped for non-finite data.
     pub skipped_non_finite: u64,
     /// Exact-mode steps that hit the event cap.
@@ -128,8 +137,26 @@ pub struct Setup {
     pub gravity: Vec<f64>,
     /// d̃ as simulated.
     pub dissipation: f64,
-    /// Bodies with CCD.
+    /// Bodies with rapier's CCD: written `ccd: true`, or chosen by the
+    /// scene's `auto_ccd`.
     pub ccd_bodies: usize,
+    /// Of which chosen by `auto_ccd` (a setting the command adds).
+    pub auto_ccd_bodies: usize,
+    /// Bodies given rapier's soft CCD (`auto_ccd`, native mode only).
+    pub soft_ccd_bodies: usize,
+    /// rapier's contact recycling (`IntegrationParameters::contact_recycling`),
+    /// off with soft CCD.
+    pub contact_recycling: bool,
+    /// Moving bodies whose rotations were locked (`spin` not active).
+    pub locked_rotations: usize,
+    /// Bodies whose friction was set to zero (`friction` not active).
+    pub zeroed_friction: usize,
+    /// Joints (rapier's impulse joints).
+    pub joints: usize,
+    /// Every setting the command adds to rapier beyond what the scene
+    /// writes, one sentence each (empty: the world is the scene as rapier
+    /// builds it). `docs/scenes.md`, "What the command adds", says why.
+    pub added: Vec<String>,
     /// Bodies marked for the law (0 in native mode).
     pub marked_bodies: usize,
     /// Bodies in the scene.
@@ -181,21 +208,42 @@ pub struct Checks {
     pub momentum_change: f64,
     /// The largest `Σ m |v|` over the run's steps.
     pub momentum_scale: f64,
-    /// Whether the scene conserves momentum: no fixed body and no gravity.
-    /// Only then is `momentum_change` warned about beyond
-    /// `tolerance · momentum_scale`.
+    /// Whether the scene conserves momentum: no fixed body, no gravity, no
+    /// joint to the world or a fixed body. Only then is `momentum_change`
+    /// warned about beyond `tolerance · momentum_scale`.
     pub momentum_conserved: bool,
-    /// The relative tolerance of both warnings: [`TOLERANCE_F64`] or
-    /// [`TOLERANCE_F32`] after the scene's precision.
+    /// The relative tolerance of both warnings, after the precision and the
+    /// integrator's rounding: [`tolerance`].
     pub tolerance: f64,
 }
 
-/// The relative tolerance of the energy and momentum warnings in f64
-/// scenes (docs/scenes.md, "The report").
+/// The least relative tolerance of the energy and momentum warnings in f64
+/// scenes (docs/scenes.md, "The energy balance").
 pub const TOLERANCE_F64: f64 = 1e-9;
 
 /// The same in f32 scenes.
 pub const TOLERANCE_F32: f64 = 1e-5;
+
+/// The relative tolerance of the energy and momentum warnings for a run
+/// of `steps` steps of `substeps` substeps in `precision`:
+///
+/// ```text
+/// max(base, u · steps · substeps),   base = 1e-9 (f64), 1e-5 (f32),
+///                                     u = 2⁻⁵³ (f64), 2⁻²⁴ (f32),
+/// ```
+///
+/// `u` the unit roundoff. Each substep of rapier's integrator (`v += g h`,
+/// `x += v h`) rounds every velocity and position to the nearest value of
+/// the precision, changing `½ m |v|² − m g·x` by up to about `u` of the
+/// energy scale, and a long fall rounds the same way step after step: the
+/// rounding of a run grows with its substeps, not as their square root.
+pub fn tolerance(precision: Precision, steps: u64, substeps: usize) -> f64 {
+    let (base, u) = match precision {
+        Precision::F64 => (TOLERANCE_F64, f64::EPSILON / 2.0),
+        Precision::F32 => (TOLERANCE_F32, f64::from(f32::EPSILON) / 2.0),
+    };
+    base.max(u * steps as f64 * substeps.max(1) as f64)
+}
 
 /// The norm of a vector.
 pub fn norm(v: &[f64]) -> f64 {
@@ -272,6 +320,9 @@ pub fn build(scene: &Scene, run: &RunOutput) -> Report {
             count: run.stats.impacts,
             clamped: run.stats.clamped,
             dissipated: run.stats.dissipated,
+            unmet_dissipation: run.stats.unmet_dissipation,
+            unbounded_clamps: run.stats.unbounded_clamps,
+            clamps: crate::clamps::Clamps::of(&run.stats).explain(run.mode),
             skipped_non_finite: run.stats.skipped_non_finite,
             event_cap_hits: run.stats.event_cap_hits,
         },
@@ -288,6 +339,13 @@ pub fn build(scene: &Scene, run: &RunOutput) -> Report {
             gravity: scene.effective_gravity(),
             dissipation: scene.effective_law().dissipation,
             ccd_bodies: run.ccd_bodies,
+            auto_ccd_bodies: run.auto_ccd_bodies,
+            soft_ccd_bodies: run.soft_ccd_bodies,
+            contact_recycling: run.contact_recycling,
+            locked_rotations: run.locked_rotations,
+            zeroed_friction: run.zeroed_friction,
+            joints: run.joints,
+            added: added(scene, run),
             marked_bodies: run.law_bodies,
             body_count: scene.bodies.len(),
             substeps: run.substeps,
@@ -342,23 +400,20 @@ impl Balance {
             energy_scale: largest(|s| s.energy_scale),
             momentum_change: norm(&dp),
             momentum_scale: largest(|s| s.momentum_scale),
-            momentum_conserved: !scene.active(Effect::FixedWalls) && !scene.active(Effect::Gravity),
-            tolerance: match scene.precision {
-                Precision::F64 => TOLERANCE_F64,
-                Precision::F32 => TOLERANCE_F32,
-            },
+            momentum_conserved: scene.conserves_momentum(),
+            tolerance: tolerance(scene.precision, run.steps, run.substeps),
         }
     }
 
     /// The warnings of the run: energy unexplained, or momentum changed in a
     /// scene that conserves it, beyond the tolerance (written so that a NaN
-    /// warns).
+    /// warns), each saying what the user can do.
     fn warnings(&self, scene: &Scene, run: &RunOutput) -> Vec<String> {
         let mut w = Vec::new();
         let mode = run.mode.name();
         if !(self.unexplained.abs() <= self.tolerance * self.energy_scale) {
             w.push(format!(
-                "{}: {mode}: energy unexplained {:.3e} is {:.3e} of the energy scale {:.3e} (tolerance {:.0e}): \
+                "{}: {mode}: energy unexplained {:.3e} is {:.3e} of the energy scale {:.3e} (tolerance {:.1e}): \
                  neither the law's dissipation ({:.3e}) nor rapier's integrator ({:.3e}) accounts for it: {}",
                 scene.file,
                 self.unexplained,
@@ -368,10 +423,9 @@ impl Balance {
                 run.stats.dissipated,
                 self.integrator,
                 if self.unexplained > 0.0 {
-                    "energy created, which no mode should do"
+                    created(scene)
                 } else {
-                    "energy lost in rapier's contacts (restitution below 1, friction, resting or \
-                     simultaneous contacts), to sleeping bodies, or to rapier's speed cap"
+                    LOST
                 },
             ));
         }
@@ -379,8 +433,11 @@ impl Balance {
             && !(self.momentum_change <= self.tolerance * self.momentum_scale)
         {
             w.push(format!(
-                "{}: {mode}: momentum changed by {:.3e} ({:.3e} of the momentum scale {:.3e}, tolerance {:.0e}) \
-                 in a scene with no fixed body and no gravity",
+                "{}: {mode}: momentum changed by {:.3e} ({:.3e} of the momentum scale {:.3e}, tolerance {:.1e}) \
+                 in a scene with no fixed body, no gravity and no joint to the world: for example a body \
+                 fell asleep (rapier zeroes the velocity of a body slower than its sleep threshold) or met \
+                 rapier's speed cap; compare the modes with `kimpact compare`, and if no body slows to rest \
+                 or reaches 400 m/s, report the scene",
                 scene.file,
                 self.momentum_change,
                 self.momentum_change / self.momentum_scale,
@@ -390,6 +447,91 @@ impl Balance {
         }
         w
     }
+}
+
+/// Every setting the command adds to rapier beyond the scene (see
+/// [`Setup::added`]).
+fn added(scene: &Scene, run: &RunOutput) -> Vec<String> {
+    let mut out = Vec::new();
+    let not_listed = |e: Effect| {
+        if scene.effects.contains(&e) {
+            "listed, but absent from the scene"
+        } else {
+            "not in `effects`"
+        }
+    };
+    if scene.gravity.iter().any(|g| *g != 0.0) && !scene.active(Effect::Gravity) {
+        out.push(format!(
+            "gravity set to zero: \"gravity\" is {}",
+            not_listed(Effect::Gravity)
+        ));
+    }
+    if run.zeroed_friction > 0 {
+        out.push(format!(
+            "friction set to 0 on {} bodies: \"friction\" is not in `effects`",
+            run.zeroed_friction
+        ));
+    }
+    if run.locked_rotations > 0 {
+        out.push(format!(
+            "rotations locked on {} moving bodies (`RigidBodyBuilder::lock_rotations`): \"spin\" is not in `effects`",
+            run.locked_rotations
+        ));
+    }
+    if run.auto_ccd_bodies > 0 {
+        out.push(format!(
+            "CCD (`ccd_enabled`) on {} bodies that could move more than their size in a step: `auto_ccd`",
+            run.auto_ccd_bodies
+        ));
+    }
+    if run.soft_ccd_bodies > 0 {
+        out.push(format!(
+            "soft CCD (`soft_ccd_prediction`) on {} bodies: `auto_ccd`, native mode",
+            run.soft_ccd_bodies
+        ));
+    }
+    if !run.contact_recycling {
+        out.push(
+            "contact recycling off (`IntegrationParameters::contact_recycling`): soft CCD needs every pair looked at in every step"
+                .to_owned(),
+        );
+    }
+    let dissipates = law_dissipates(&scene.law) || scene.materials.iter().any(|m| m.dissipates());
+    if run.mode != kimpact::Mode::Native && dissipates && !scene.active(Effect::Dissipation) {
+        out.push(format!(
+            "the elastic law for every pair: \"dissipation\" is {}",
+            not_listed(Effect::Dissipation)
+        ));
+    }
+    out
+}
+
+/// The cause and the remedy of energy lost (a warning's end): the list of
+/// causes is not complete, and says so.
+const LOST: &str = "energy lost, for example in rapier's contacts (restitution below 1, friction, \
+     resting or simultaneous contacts), in rapier's joints, to sleeping bodies, to rapier's speed \
+     cap, or at impacts under gravity (an impact changes the integrator's energy by (h/2) m g·Δv, \
+     docs/scenes.md, \"The energy balance\"): `kimpact compare` shows which modes lose it, and \
+     running the scene without an effect (`effects`) shows which effect does";
+
+/// The cause and the remedy of energy created (a warning's end).
+fn created(scene: &Scene) -> &'static str {
+    match scene.precision {
+        Precision::F32 => {
+            "energy created, which no mode should do unless a rapier restitution above 1 asks for \
+             it: if it is f32 rounding, beyond the tolerance's one rounding per substep, the scene in \
+             precision \"f64\" does not warn; if that warns too, report the scene"
+        }
+        Precision::F64 => {
+            "energy created, which no mode should do unless a rapier restitution above 1 asks for \
+             it: beyond f64's rounding, so report the scene"
+        }
+    }
+}
+
+/// Whether law parameters dissipate.
+fn law_dissipates(law: &kimpact::LawParams<f64>) -> bool {
+    law.dissipation > 0.0 || law.wall_dissipation.is_some_and(|w| w > 0.0)
 }
 
 /// The bounding box of the fixed bodies, if the scene has any and it holds

@@ -58,6 +58,9 @@ pub(super) fn run(
     // Scene index and smallest half size of each collider (by collider index).
     let mut of_collider: Vec<Option<(usize, f64)>> = Vec::new();
     let mut law_bodies = 0;
+    // What the command changes of the scene's bodies (see `RunOutput`).
+    let mut locked_rotations = 0;
+    let mut zeroed_friction = 0;
     for (i, b) in scene.bodies.iter().enumerate() {
         let rb = if b.fixed {
             RigidBodyBuilder::fixed()
@@ -71,9 +74,14 @@ pub(super) fn run(
             .soft_ccd_prediction(soft_ccd[i] as Real);
         if !spin && !b.fixed {
             rb = rb.lock_rotations();
+            locked_rotations += 1;
+        }
+        if !friction && b.friction > 0.0 {
+            zeroed_friction += 1;
         }
         let mut co = collider(&b.shape)
             .restitution(b.restitution as Real)
+            .restitution_combine_rule(combine_rule(b.restitution_combine))
             .friction(if friction { b.friction as Real } else { 0.0 });
         if let Some(m) = b.mass {
             co = co.mass(m as Real);
@@ -108,6 +116,24 @@ pub(super) fn run(
         }
         of_collider[index] = Some((i, b.shape.min_size()));
         handles.push(h);
+    }
+    // Joints, with rapier's impulse joints. An end at the world is a fixed
+    // body without a collider at the world anchor (as rapier's own
+    // examples build it), its local anchor the origin.
+    let origin = vec![0.0; scene.dim];
+    for j in &scene.joints {
+        let mut end = |e: crate::scene::JointEnd, anchor: &[f64]| match e {
+            crate::scene::JointEnd::World => (
+                world
+                    .bodies
+                    .insert(RigidBodyBuilder::fixed().translation(vector(anchor))),
+                vector(&origin),
+            ),
+            crate::scene::JointEnd::Body(i) => (handles[i], vector(anchor)),
+        };
+        let (h1, a1) = end(j.body1, &j.anchor1);
+        let (h2, a2) = end(j.body2, &j.anchor2);
+        world.impulse_joints.insert(h1, h2, joint(j, a1, a2), true);
     }
 
     let gravity = scene.effective_gravity();
@@ -265,6 +291,12 @@ pub(super) fn run(
         max_penetration_ratio: max_ratio,
         crossings,
         ccd_bodies: ccd.iter().filter(|c| **c).count(),
+        auto_ccd_bodies: scene.auto_ccd_flags().iter().filter(|c| **c).count(),
+        soft_ccd_bodies: soft_ccd.iter().filter(|p| **p > 0.0).count(),
+        contact_recycling: world.integration_parameters.contact_recycling,
+        locked_rotations,
+        zeroed_friction,
+        joints: scene.joints.len(),
         law_bodies,
         substeps: world.integration_parameters.num_solver_iterations,
     }

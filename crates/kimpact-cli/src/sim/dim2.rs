@@ -32,3 +32,55 @@ fn collider(shape: &crate::scene::Shape) -> k::rapier::prelude::ColliderBuilder 
 fn rotation(rb: &k::rapier::prelude::RigidBody) -> Vec<f64> {
     vec![rb.rotation().angle() as f64]
 }
+
+/// rapier's joint for a scene joint, with its local anchors.
+fn joint(
+    j: &crate::scene::Joint,
+    a1: k::math::Vector,
+    a2: k::math::Vector,
+) -> k::rapier::prelude::GenericJoint {
+    use crate::scene::JointKind;
+    use k::math::Real;
+    use k::rapier::prelude::*;
+    let contacts = j.contacts_enabled;
+    let limits = |l: &[f64; 2]| [l[0] as Real, l[1] as Real];
+    match &j.kind {
+        JointKind::Fixed => FixedJointBuilder::new()
+            .local_anchor1(a1)
+            .local_anchor2(a2)
+            .contacts_enabled(contacts)
+            .into(),
+        JointKind::Revolute { limits: l, .. } => {
+            let mut b = RevoluteJointBuilder::new()
+                .local_anchor1(a1)
+                .local_anchor2(a2)
+                .contacts_enabled(contacts);
+            if let Some(l) = l {
+                b = b.limits(limits(l));
+            }
+            b.into()
+        }
+        // A 2D scene has no spherical joint (the validator says so); the
+        // joint that turns freely about its anchor in 2D is the revolute.
+        JointKind::Spherical => RevoluteJointBuilder::new()
+            .local_anchor1(a1)
+            .local_anchor2(a2)
+            .contacts_enabled(contacts)
+            .into(),
+        JointKind::Prismatic { axis, limits: l } => {
+            let mut b = PrismaticJointBuilder::new(vector(axis))
+                .local_anchor1(a1)
+                .local_anchor2(a2)
+                .contacts_enabled(contacts);
+            if let Some(l) = l {
+                b = b.limits(limits(l));
+            }
+            b.into()
+        }
+        JointKind::Rope { max_distance } => RopeJointBuilder::new(*max_distance as Real)
+            .local_anchor1(a1)
+            .local_anchor2(a2)
+            .contacts_enabled(contacts)
+            .into(),
+    }
+}

@@ -34,3 +34,53 @@ fn rotation(rb: &k::rapier::prelude::RigidBody) -> Vec<f64> {
     let q = rb.rotation();
     vec![q.x as f64, q.y as f64, q.z as f64, q.w as f64]
 }
+
+/// rapier's joint for a scene joint, with its local anchors.
+fn joint(
+    j: &crate::scene::Joint,
+    a1: k::math::Vector,
+    a2: k::math::Vector,
+) -> k::rapier::prelude::GenericJoint {
+    use crate::scene::JointKind;
+    use k::math::{Real, Vector};
+    use k::rapier::prelude::*;
+    let contacts = j.contacts_enabled;
+    let limits = |l: &[f64; 2]| [l[0] as Real, l[1] as Real];
+    match &j.kind {
+        JointKind::Fixed => FixedJointBuilder::new()
+            .local_anchor1(a1)
+            .local_anchor2(a2)
+            .contacts_enabled(contacts)
+            .into(),
+        JointKind::Revolute { axis, limits: l } => {
+            let mut b = RevoluteJointBuilder::new(axis.as_deref().map_or(Vector::Z, vector))
+                .local_anchor1(a1)
+                .local_anchor2(a2)
+                .contacts_enabled(contacts);
+            if let Some(l) = l {
+                b = b.limits(limits(l));
+            }
+            b.into()
+        }
+        JointKind::Spherical => SphericalJointBuilder::new()
+            .local_anchor1(a1)
+            .local_anchor2(a2)
+            .contacts_enabled(contacts)
+            .into(),
+        JointKind::Prismatic { axis, limits: l } => {
+            let mut b = PrismaticJointBuilder::new(vector(axis))
+                .local_anchor1(a1)
+                .local_anchor2(a2)
+                .contacts_enabled(contacts);
+            if let Some(l) = l {
+                b = b.limits(limits(l));
+            }
+            b.into()
+        }
+        JointKind::Rope { max_distance } => RopeJointBuilder::new(*max_distance as Real)
+            .local_anchor1(a1)
+            .local_anchor2(a2)
+            .contacts_enabled(contacts)
+            .into(),
+    }
+}

@@ -79,8 +79,22 @@ pub struct RunOutput {
     /// Steps in which a pair of balls passed through each other (see
     /// [`crate::report::Checks::crossings`]), counted per pair and step.
     pub crossings: u64,
-    /// Bodies that got CCD.
+    /// Bodies that got CCD (written in the scene, or chosen by `auto_ccd`).
     pub ccd_bodies: usize,
+    /// Of which chosen by the scene's `auto_ccd` rule.
+    pub auto_ccd_bodies: usize,
+    /// Bodies given soft CCD (`auto_ccd`, native mode).
+    pub soft_ccd_bodies: usize,
+    /// rapier's `IntegrationParameters::contact_recycling` as run (turned
+    /// off with soft CCD).
+    pub contact_recycling: bool,
+    /// Moving bodies whose rotations were locked (`spin` not active).
+    pub locked_rotations: usize,
+    /// Bodies whose written friction was set to zero (`friction` not
+    /// active).
+    pub zeroed_friction: usize,
+    /// Joints built.
+    pub joints: usize,
     /// Colliders marked for the law.
     pub law_bodies: usize,
     /// rapier's substeps per step (`IntegrationParameters::num_solver_iterations`).
