@@ -35,7 +35,7 @@ pub struct Sample {
     pub momentum_law: Vec<f64>,
     /// `Σ m g·v`, the power of gravity: rapier's integrator lags the
     /// potential energy behind the kinetic by `(h/2) Σ m g·v` (see
-    /// [`crate::report::Checks::energy_integrator`]).
+    /// the report's `Checks::energy_integrator`).
     pub gravity_power: f64,
     /// `Σ m |v|²/2 + Σ m |g·x|` (rotation included with `spin`): the size of
     /// the energies summed, against which the energy balance is judged.
@@ -77,7 +77,7 @@ pub struct RunOutput {
     /// The same, relative to the smaller body's smallest half size.
     pub max_penetration_ratio: f64,
     /// Steps in which a pair of balls passed through each other (see
-    /// [`crate::report::Checks::crossings`]), counted per pair and step.
+    /// the report's `Checks::crossings`), counted per pair and step.
     pub crossings: u64,
     /// Bodies that got CCD (written in the scene, or chosen by `auto_ccd`).
     pub ccd_bodies: usize,
