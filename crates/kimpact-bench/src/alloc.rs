@@ -1,5 +1,5 @@
 //! A counting global allocator around `std::alloc::System`: every
-//! allocation (and reallocation) on every thread, with its size.
+//! allocation (and reallocation) on every thread.
 //!
 //! Attribution: while [`attribute`] is on, every allocation is classified
 //! from its stack (file paths of the frames, from the allocation outwards):
@@ -13,7 +13,13 @@
 //! distinct stack (by its frame addresses) is symbolized once, which needs
 //! line tables (the workspace's release profile has them).
 //! `KIMPACT_BENCH_TRACE_ALLOCS=N` prints kimpact's `N` most frequent stacks
-//! to stderr, `KIMPACT_BENCH_TRACE_ALL=N` rapier's (see [`stop_attribute`]).
+//! to stderr (see [`stop_attribute`]).
+//!
+//! Why not a crate: `stats_alloc` counts allocations but cannot tell whose
+//! they are; `dhat` records each allocation's stack, but only into the
+//! JSON file its profiler writes when dropped (its API gives totals), and
+//! its author calls it experimental. The bench needs the classification
+//! in the process, per allocation, against kimpact's source paths.
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
@@ -22,13 +28,11 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering::Relaxed};
 
 static COUNT: AtomicU64 = AtomicU64::new(0);
-static BYTES: AtomicU64 = AtomicU64::new(0);
 
 static ATTRIBUTING: AtomicBool = AtomicBool::new(false);
 static SEEN: AtomicU64 = AtomicU64::new(0);
 static OWN: AtomicU64 = AtomicU64::new(0);
 static TRACE_OWN: AtomicU64 = AtomicU64::new(0);
-static TRACE_ALL: AtomicU64 = AtomicU64::new(0);
 /// Distinct stacks seen while attributing, by frame addresses: whether
 /// kimpact's, the frames' paths in the workspace's crates, rapier and
 /// parry, and how many allocations had that stack.
@@ -47,12 +51,11 @@ thread_local! {
 pub struct Counting;
 
 #[inline]
-fn count(size: usize) {
+fn counted() {
     if ATTRIBUTING.load(Relaxed) && !sample() {
         return; // the classifier's own allocation
     }
     COUNT.fetch_add(1, Relaxed);
-    BYTES.fetch_add(size as u64, Relaxed);
 }
 
 /// Classify this allocation; `false` when it is made by the classifier
@@ -148,19 +151,19 @@ fn is_kimpact<'a>(paths: impl IntoIterator<Item = &'a str>) -> bool {
 // is guarded against re-entry.
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        count(layout.size());
+        counted();
         // SAFETY: forwarded contract of `GlobalAlloc::alloc`.
         unsafe { System.alloc(layout) }
     }
 
     unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
-        count(layout.size());
+        counted();
         // SAFETY: forwarded contract of `GlobalAlloc::alloc_zeroed`.
         unsafe { System.alloc_zeroed(layout) }
     }
 
     unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        count(new_size);
+        counted();
         // SAFETY: forwarded contract of `GlobalAlloc::realloc`.
         unsafe { System.realloc(ptr, layout, new_size) }
     }
@@ -171,21 +174,15 @@ unsafe impl GlobalAlloc for Counting {
     }
 }
 
-/// Allocations and bytes requested so far, all threads.
-pub fn snapshot() -> (u64, u64) {
-    (COUNT.load(Relaxed), BYTES.load(Relaxed))
+/// Allocations so far, all threads.
+pub fn count() -> u64 {
+    COUNT.load(Relaxed)
 }
 
 /// Start classifying every allocation.
 pub fn attribute() {
-    let var = |name: &str| {
-        std::env::var(name)
-            .ok()
-            .and_then(|v| v.parse().ok())
-            .unwrap_or(0)
-    };
-    TRACE_OWN.store(var("KIMPACT_BENCH_TRACE_ALLOCS"), Relaxed);
-    TRACE_ALL.store(var("KIMPACT_BENCH_TRACE_ALL"), Relaxed);
+    let trace = std::env::var("KIMPACT_BENCH_TRACE_ALLOCS").ok();
+    TRACE_OWN.store(trace.and_then(|v| v.parse().ok()).unwrap_or(0), Relaxed);
     SEEN.store(0, Relaxed);
     OWN.store(0, Relaxed);
     if let Some(stacks) = STACKS.lock().unwrap_or_else(|e| e.into_inner()).as_mut() {
@@ -194,28 +191,23 @@ pub fn attribute() {
     ATTRIBUTING.store(true, Relaxed);
 }
 
-/// Stop classifying: (allocations classified, of which kimpact's, distinct
-/// stacks). With `KIMPACT_BENCH_TRACE_ALLOCS=N`, print
-/// kimpact's `N` most frequent stacks and their counts to stderr; with
-/// `KIMPACT_BENCH_TRACE_ALL=N`, also rapier's `N` most frequent (frames in
-/// the workspace's crates, rapier and parry).
-pub fn stop_attribute() -> (u64, u64, u64) {
+/// Stop classifying: (allocations classified, of which kimpact's). With
+/// `KIMPACT_BENCH_TRACE_ALLOCS=N`, print kimpact's `N` most frequent
+/// stacks and their counts to stderr (frames in the workspace's crates,
+/// rapier and parry).
+pub fn stop_attribute() -> (u64, u64) {
     ATTRIBUTING.store(false, Relaxed);
     let stacks = STACKS.lock().unwrap_or_else(|e| e.into_inner());
-    let distinct = stacks.as_ref().map_or(0, |s| s.len() as u64);
-    let mut all: Vec<&(bool, Vec<String>, u64)> = stacks.iter().flat_map(|s| s.values()).collect();
-    all.sort_by(|a, b| b.2.cmp(&a.2).then_with(|| a.1.cmp(&b.1)));
-    let own = all.iter().filter(|s| s.0);
-    let shown = own.take(TRACE_OWN.load(Relaxed) as usize).chain(
-        all.iter()
-            .filter(|s| !s.0)
-            .take(TRACE_ALL.load(Relaxed) as usize),
-    );
-    for (own, paths, n) in shown {
-        let whose = if *own { "kimpact's" } else { "rapier's" };
-        eprintln!("== {n} allocations, {whose}, from\n{}", paths.join("\n"));
+    let mut own: Vec<_> = stacks
+        .iter()
+        .flat_map(|s| s.values())
+        .filter(|s| s.0)
+        .collect();
+    own.sort_by(|a, b| b.2.cmp(&a.2).then_with(|| a.1.cmp(&b.1)));
+    for (_, paths, n) in own.iter().take(TRACE_OWN.load(Relaxed) as usize) {
+        eprintln!("== {n} allocations, kimpact's, from\n{}", paths.join("\n"));
     }
-    (SEEN.load(Relaxed), OWN.load(Relaxed), distinct)
+    (SEEN.load(Relaxed), OWN.load(Relaxed))
 }
 
 #[cfg(test)]

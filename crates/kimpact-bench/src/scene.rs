@@ -12,7 +12,8 @@ use k::{Kimpact, Law, LawParams, Mode};
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
 
-use crate::{AboutZ, Measure, Pair, Scene, Setup, Solo, Timing, alloc, memory};
+use crate::child::{Measure, Pair, Setup, Solo, Timing};
+use crate::{AboutZ, Scene, alloc, memory};
 
 /// A vector with components uniform in `[-speed, speed)`, from the scene's
 /// seeded generator (the same sequence in every mode).
@@ -46,6 +47,11 @@ fn grid_point(i: usize, side: usize, spacing: Real) -> Vector {
     p
 }
 
+/// A cuboid collider of half-extents `he`, in either dimension.
+fn cuboid(he: Vector) -> ColliderBuilder {
+    ColliderBuilder::new(SharedShape::new(k::rapier::parry::shape::Cuboid::new(he)))
+}
+
 #[derive(Copy, Clone)]
 struct Material {
     friction: Real,
@@ -68,11 +74,6 @@ pub struct Bench {
     drives: Vec<Drive>,
     /// Simulated time, for the drives.
     time: Real,
-    /// Whether the user reads kimpact's impact events after each step (the
-    /// effects table's "events").
-    read_events: bool,
-    /// What reading them found (kept so that the read is not optimized out).
-    events_read: Real,
 }
 
 /// A kinematic body swung about its origin at a periodic angular velocity
@@ -96,15 +97,7 @@ impl Bench {
         .expect("valid law parameters");
         Self {
             world,
-            kimpact: Kimpact::with_config(
-                law,
-                mode,
-                k::Config {
-                    calm_neighbourhoods: !crate::no_calm(),
-                    ..Default::default()
-                },
-            )
-            .expect("the default configuration with calm_neighbourhoods set is valid"),
+            kimpact: Kimpact::new(law, mode),
             balls: Vec::new(),
             lo: Vector::ZERO,
             hi: Vector::ZERO,
@@ -112,46 +105,20 @@ impl Bench {
             floor: 0.0,
             drives: Vec::new(),
             time: 0.0,
-            read_events: false,
-            events_read: 0.0,
         }
     }
 
     /// A marked ball.
-    fn ball(
-        &mut self,
-        body: RigidBodyBuilder,
-        radius: Real,
-        mass: Real,
-        material: Material,
-    ) -> RigidBodyHandle {
-        self.ball_with(body, radius, mass, material, None)
-    }
-
-    /// A marked ball, with its own law parameters when `law` is given
-    /// (`Kimpact::mark_with`).
-    fn ball_with(
-        &mut self,
-        body: RigidBodyBuilder,
-        radius: Real,
-        mass: Real,
-        material: Material,
-        law: Option<k::Material>,
-    ) -> RigidBodyHandle {
+    fn ball(&mut self, body: RigidBodyBuilder, radius: Real, mass: Real, material: Material) {
         let collider = ColliderBuilder::ball(radius)
             .mass(mass)
             .friction(material.friction)
             .restitution(material.restitution);
         let collider = self.hooked_if_asked(collider);
         let (b, c) = self.world.insert(body, collider);
-        let colliders = &self.world.colliders;
-        match law {
-            Some(law) => self.kimpact.mark_with(colliders, c, law),
-            None => self.kimpact.mark(colliders, c),
-        }
-        .expect("inserted just above");
+        let marked = self.kimpact.mark(&self.world.colliders, c);
+        marked.expect("inserted just above");
         self.balls.push(b);
-        b
     }
 
     /// `collider` with rapier's contact-modification hook flag in native
@@ -179,7 +146,7 @@ impl Bench {
                 let b = self
                     .world
                     .insert_body(RigidBodyBuilder::fixed().translation(center));
-                let collider = k::math::cuboid(he)
+                let collider = cuboid(he)
                     .friction(material.friction)
                     .restitution(material.restitution);
                 self.world.insert_collider(collider, Some(b));
@@ -187,19 +154,10 @@ impl Bench {
         }
     }
 
-    /// Build what `setup` asks for: a configuration of the effects table,
-    /// or its scene; `None` when the scene is not of this module's
-    /// dimension.
+    /// Build what `setup` asks for: its scene with (about) its balls, or
+    /// `None` when the scene is not of this module's dimension.
     pub fn setup(setup: Setup) -> Option<Self> {
-        match setup.effect {
-            Some(effect) => Self::effect(effect, setup.scene, setup.balls, setup.mode),
-            None => Self::build(setup.scene, setup.balls, setup.mode),
-        }
-    }
-
-    /// Build `scene` with (about) `balls` balls, or `None` when the scene is
-    /// not of this module's dimension.
-    pub fn build(scene: Scene, balls: usize, mode: Mode) -> Option<Self> {
+        let Setup { scene, balls, mode } = setup;
         if scene.dim() != DIM {
             return None;
         }
@@ -335,8 +293,7 @@ impl Bench {
     }
 
     /// One step through kimpact (`Mode::Native` too: identical code path),
-    /// after driving the kinematic bodies; with `read_events`, the user's
-    /// read of kimpact's impact events after it.
+    /// after driving the kinematic bodies.
     pub fn step(&mut self) {
         let tau = std::f64::consts::TAU as Real;
         for d in &self.drives {
@@ -347,13 +304,6 @@ impl Bench {
         }
         self.kimpact.step_world(&mut self.world, &(), &());
         self.time += self.world.integration_parameters.dt;
-        if self.read_events {
-            let mut sum = 0.0;
-            for e in self.kimpact.events() {
-                sum += e.impulse + e.dissipated;
-            }
-            self.events_read += std::hint::black_box(sum);
-        }
     }
 
     /// Kinetic plus potential energy (from the floor), f64.
@@ -414,37 +364,27 @@ impl Bench {
 fn measured_block(bench: &mut Bench, n: usize, whole: bool, m: &mut Measure) {
     let per_sample = if whole { n } else { 1 };
     for _ in 0..n / per_sample {
-        let (count0, bytes0) = alloc::snapshot();
-        let t = Instant::now();
-        let c = memory::process_cpu_us();
+        let count = alloc::count();
+        let (t, c) = (Instant::now(), memory::process_cpu_us());
         for _ in 0..per_sample {
             bench.step();
         }
         let cpu = memory::process_cpu_us() - c;
         let wall = t.elapsed().as_secs_f64() * 1e6;
-        let (count1, bytes1) = alloc::snapshot();
-        m.times_us.push(wall / per_sample as f64);
+        m.allocs += alloc::count() - count;
+        m.wall_us.push(wall / per_sample as f64);
         m.cpu_us.push(cpu / per_sample as f64);
-        m.allocs += count1 - count0;
-        m.alloc_bytes += bytes1 - bytes0;
     }
 }
 
-/// Record the state before an episode's measured steps.
-fn start_episode(bench: &Bench, m: &mut Measure, first: bool) -> k::Stats {
-    if first {
-        m.energy_start = bench.energy();
-    }
-    bench.kimpact.stats()
-}
-
-/// Add what an episode's measured steps did to the scene.
-fn finish_episode(bench: &Bench, m: &mut Measure, stats0: k::Stats, steps: usize) {
-    let stats1 = bench.kimpact.stats();
+/// Add what `steps` measured steps did to the scene, from the stats and
+/// the energy before them.
+fn finish_episode(bench: &Bench, m: &mut Measure, before: k::Stats, steps: usize) {
+    let now = bench.kimpact.stats();
     m.steps += steps;
-    m.impacts += stats1.impacts - stats0.impacts;
-    m.cap_hits += stats1.event_cap_hits - stats0.event_cap_hits;
-    m.skipped += stats1.skipped_non_finite - stats0.skipped_non_finite;
+    m.impacts += now.impacts - before.impacts;
+    m.cap_hits += now.event_cap_hits - before.event_cap_hits;
+    m.skipped += now.skipped_non_finite - before.skipped_non_finite;
     m.energy_end = bench.energy();
     m.non_finite = m.non_finite.max(bench.non_finite());
     m.escaped = m.escaped.max(bench.escaped());
@@ -456,49 +396,42 @@ fn finish_episode(bench: &Bench, m: &mut Measure, stats0: k::Stats, steps: usize
 /// `steps` measured steps each, alternated in blocks (native's block, then
 /// the mode's), so that whatever else the machine does hits both alike.
 pub fn run_pair(setup: Setup, timing: Timing) -> Option<Pair> {
-    let samples = timing.steps * timing.repeats.max(1);
-    let new_measure = || Measure {
-        times_us: Vec::with_capacity(samples),
-        cpu_us: Vec::with_capacity(samples),
-        ..Measure::default()
-    };
-    let (mut mn, mut ml) = (new_measure(), new_measure());
+    let (mut mn, mut ml) = (Measure::default(), Measure::default());
     let block = timing.block.max(1);
     let mut balls = 0;
     for episode in 0..timing.repeats.max(1) {
-        let mut native = Bench::setup(Setup {
+        let native_setup = Setup {
             mode: Mode::Native,
             ..setup
-        })?;
-        let mut law = Bench::setup(setup)?;
+        };
+        let mut worlds = [(Bench::setup(native_setup)?, &mut mn), (Bench::setup(setup)?, &mut ml)];
         for _ in 0..timing.warmup {
-            native.step();
-            law.step();
+            worlds.iter_mut().for_each(|(w, _)| w.step());
         }
-        let sn = start_episode(&native, &mut mn, episode == 0);
-        let sl = start_episode(&law, &mut ml, episode == 0);
+        let mut before = Vec::new();
+        for (w, m) in &mut worlds {
+            if episode == 0 {
+                m.energy_start = w.energy();
+            }
+            before.push(w.kimpact.stats());
+        }
         let mut done = 0;
         while done < timing.steps {
             let n = block.min(timing.steps - done);
-            measured_block(&mut native, n, timing.time_blocks, &mut mn);
-            measured_block(&mut law, n, timing.time_blocks, &mut ml);
+            for (w, m) in &mut worlds {
+                measured_block(w, n, timing.time_blocks, m);
+            }
             done += n;
         }
-        finish_episode(&native, &mut mn, sn, timing.steps);
-        finish_episode(&law, &mut ml, sl, timing.steps);
-        balls = law.balls.len();
+        for ((w, m), stats) in worlds.iter_mut().zip(before) {
+            finish_episode(w, m, stats, timing.steps);
+        }
+        balls = worlds[1].0.balls.len();
     }
     Some(Pair {
         scene: setup.scene,
         balls,
         mode: setup.mode,
-        precision: k::math::PRECISION,
-        parallel: cfg!(feature = "parallel"),
-        warmup: timing.warmup,
-        block,
-        time_blocks: timing.time_blocks,
-        repeats: timing.repeats.max(1),
-        effect: setup.effect,
         native: mn,
         law: ml,
     })
@@ -510,46 +443,31 @@ pub fn run_pair(setup: Setup, timing: Timing) -> Option<Pair> {
 /// the measured steps as kimpact's or rapier's from its stack (after the
 /// RSS is read: symbolizing takes memory).
 pub fn run_solo(setup: Setup, warmup: usize, steps: usize, attribute: bool) -> Option<Solo> {
-    let mut bench = Bench::setup(setup)?;
-    for _ in 0..warmup {
-        bench.step();
-    }
-    let (count0, _) = alloc::snapshot();
-    for _ in 0..steps {
-        bench.step();
-    }
-    let (count1, _) = alloc::snapshot();
-    let peak_rss_kib = memory::peak_rss_kib();
-    let mut solo = Solo {
-        scene: setup.scene,
-        balls: bench.balls.len(),
-        mode: setup.mode,
-        precision: k::math::PRECISION,
-        steps,
-        effect: setup.effect,
-        allocs: count1 - count0,
-        peak_rss_kib,
-        attributed: false,
-        attr_seen: 0,
-        attr_sampled: 0,
-        attr_own: 0,
-        attr_stacks: 0,
+    let warmed = || {
+        let mut bench = Bench::setup(setup)?;
+        (0..warmup).for_each(|_| bench.step());
+        Some(bench)
     };
-    if attribute {
-        drop(bench);
-        let mut again = Bench::setup(setup)?;
-        for _ in 0..warmup {
-            again.step();
+    let mut bench = warmed()?;
+    let count = alloc::count();
+    (0..steps).for_each(|_| bench.step());
+    let allocs = alloc::count() - count;
+    let peak_rss_kib = memory::peak_rss_kib();
+    drop(bench);
+    let attributed = match attribute {
+        true => {
+            let mut again = warmed()?;
+            alloc::attribute();
+            (0..steps).for_each(|_| again.step());
+            Some(alloc::stop_attribute())
         }
-        alloc::attribute();
-        for _ in 0..steps {
-            again.step();
-        }
-        (solo.attr_seen, solo.attr_own, solo.attr_stacks) = alloc::stop_attribute();
-        // Every allocation is classified (the field is kept for earlier
-        // runs' raw.json, which sampled about 1,000).
-        solo.attr_sampled = solo.attr_seen;
-        solo.attributed = true;
-    }
-    Some(solo)
+        false => None,
+    };
+    Some(Solo {
+        mode: setup.mode,
+        steps,
+        allocs,
+        peak_rss_kib,
+        attributed,
+    })
 }

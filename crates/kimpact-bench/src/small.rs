@@ -28,7 +28,7 @@ impl Bench {
         he[1] = ground_height;
         let floor = RigidBodyBuilder::fixed().translation(-Vector::Y * ground_height);
         b.world
-            .insert(floor, k::math::cuboid(he).restitution(1.0));
+            .insert(floor, cuboid(he).restitution(1.0));
         let (num, rad) = (10usize, 0.5);
         for j in 0..2 {
             for i in 0..=num {
@@ -126,7 +126,7 @@ impl Bench {
             let body = RigidBodyBuilder::kinematic_velocity_based()
                 .translation(xy(side * (pivot_x - 0.005), pivot_y + 0.005))
                 .rotation(AngVector::about_z(side * rest));
-            let collider = k::math::cuboid(bar)
+            let collider = cuboid(bar)
                 .translation(xy(-side * 0.5 * length, 0.0))
                 .friction(wall.friction)
                 .restitution(wall.restitution);

@@ -8,10 +8,9 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use serde_json::{Value, json};
-
-/// The modes, cheapest first.
-const MODES: [&str; 4] = ["native", "restitution", "impulse", "exact"];
+use kimpact::{Mode, Precision};
+use kimpact_harness::{AccuracySummary, BenchRow, ErrorRow};
+use serde_json::Value;
 
 /// A fresh folder for one test.
 fn folder(name: &str) -> PathBuf {
@@ -29,23 +28,75 @@ const RATIOS: [(&str, usize, [f64; 4]); 2] = [
     ("gas3d", 3, [1.0, 1.14, 1.11, 1.33]),
 ];
 
-/// A bench CSV: the joined rows, with `ratio` and `error` of
-/// (scene, mode) changed by `edit`, and rows the join must ignore (other
-/// scenes, balls, precisions). Its columns in another order than the
-/// bench's, and one more.
-fn bench_csv(edit: impl Fn(&str, &str) -> Option<(String, String)>) -> String {
-    let mut s = "mode,scene,dim,precision,parallel,balls,rounds,median_us,ratio,error\n".to_owned();
+/// A bench row as the bench writes it.
+fn row(
+    scene: &str,
+    dim: usize,
+    precision: Precision,
+    balls: usize,
+    mode: Mode,
+    ratio: f64,
+) -> BenchRow {
+    BenchRow {
+        scene: scene.to_owned(),
+        dim,
+        precision,
+        parallel: false,
+        balls,
+        mode,
+        rounds: 1,
+        samples: 200,
+        median_us: 300.5 * ratio,
+        wall_median_us: 301.0 * ratio,
+        native_median_us: 300.5,
+        ratio,
+        ratio_min: ratio,
+        ratio_max: ratio,
+        ratio_median_rounds: ratio,
+        delta_us: 300.5 * (ratio - 1.0),
+        allocs_per_step: 20.0,
+        native_allocs_per_step: 20.0,
+        kimpact_allocs_per_step: 0.0,
+        peak_rss_mib: 12.0,
+        impacts_per_step: 5.0,
+        energy_rel_change: 1e-7,
+        non_finite: 0,
+        escaped: 0,
+        cap_hits: 0,
+        skipped: 0,
+        awake_end: balls,
+        error: None,
+    }
+}
+
+/// The bench's CSV, written with its own type: the joined rows, each
+/// passed through `edit`, and rows the join must ignore (other balls,
+/// precisions, scenes).
+fn bench_csv(edit: impl Fn(&mut BenchRow)) -> String {
+    let mut w = csv::Writer::from_writer(Vec::new());
     for (scene, dim, ratios) in RATIOS {
-        for (mode, ratio) in MODES.iter().zip(ratios) {
-            let (ratio, error) =
-                edit(scene, mode).unwrap_or_else(|| (format!("{ratio:.4}"), String::new()));
-            s += &format!("{mode},{scene},{dim},f32,false,1000,1,300.5,{ratio},{error}\n");
-            s += &format!("{mode},{scene},{dim},f32,false,10000,1,3000.5,9.0000,\n");
-            s += &format!("{mode},{scene},{dim},f64,false,1000,1,300.5,8.0000,\n");
+        for (mode, ratio) in Mode::ALL.into_iter().zip(ratios) {
+            let mut r = row(scene, dim, Precision::F32, 1000, mode, ratio);
+            edit(&mut r);
+            w.serialize(r).unwrap();
+            w.serialize(row(scene, dim, Precision::F32, 10_000, mode, 9.0))
+                .unwrap();
+            w.serialize(row(scene, dim, Precision::F64, 1000, mode, 8.0))
+                .unwrap();
         }
     }
-    s += "exact,pit3d,3,f32,false,1000,1,2000.1,1.1045,\"failed: a, b\"\n";
-    s
+    let mut failed = row("pit3d", 3, Precision::F32, 1000, Mode::Exact, 1.1);
+    failed.error = Some("failed: a, b".into());
+    w.serialize(failed).unwrap();
+    String::from_utf8(w.into_inner().unwrap()).unwrap()
+}
+
+/// The line of the joined row of `scene` in `mode` in [`bench_csv`]'s file
+/// (the header is line 1).
+fn line_of(scene: &str, mode: Mode) -> usize {
+    let s = RATIOS.iter().position(|r| r.0 == scene).unwrap();
+    let m = Mode::ALL.iter().position(|&x| x == mode).unwrap();
+    2 + 3 * (4 * s + m)
 }
 
 /// The fixtures' errors: (dim, quantity, noise floor, errors by mode).
@@ -68,33 +119,53 @@ const ERRORS: [(usize, &str, Option<f64>, [f64; 4]); 4] = [
     (3, "energy_error", None, [0.8, 0.9, 1e-5, 1.1e-5]),
 ];
 
-/// An accuracy summary with the joined errors and entries the join must
-/// ignore (another time step, quantity, precision, scene).
+/// An accuracy summary, written with its own type, with the joined errors
+/// and entries the join must ignore (another time step, quantity,
+/// precision, scene); as JSON, for the tests to edit.
 fn summary() -> Value {
     let mut errors = Vec::new();
     for (dim, quantity, floor, values) in ERRORS {
-        for (mode, error) in MODES.iter().zip(values) {
-            let mut e = json!({"scene": "gas", "dimension": dim, "precision": "f32",
-                "mode": mode, "dt_div": 1, "quantity": quantity, "error": error});
-            if let Some(f) = floor {
-                e["noise_floor"] = json!(f);
-            }
-            errors.push(e.clone());
-            e["dt_div"] = json!(2);
-            errors.push(e.clone());
-            e["dt_div"] = json!(1);
-            e["precision"] = json!("f64");
+        for (mode, error) in Mode::ALL.into_iter().zip(values) {
+            let e = ErrorRow {
+                scene: "gas".into(),
+                dimension: dim,
+                precision: Precision::F32,
+                mode,
+                dt_div: 1,
+                quantity: quantity.into(),
+                error,
+                noise_floor: floor,
+            };
+            let ignored = [
+                ErrorRow {
+                    dt_div: 2,
+                    ..e.clone()
+                },
+                ErrorRow {
+                    precision: Precision::F64,
+                    ..e.clone()
+                },
+                ErrorRow {
+                    quantity: "ks_speeds_vs_reference".into(),
+                    ..e.clone()
+                },
+                ErrorRow {
+                    scene: "cradle".into(),
+                    ..e.clone()
+                },
+            ];
             errors.push(e);
-            errors.push(json!({"scene": "gas", "dimension": dim, "precision": "f32",
-                "mode": mode, "dt_div": 1, "quantity": "ks_speeds_vs_reference",
-                "error": 0.01, "noise_floor": 0.012}));
-            errors.push(
-                json!({"scene": "cradle", "dimension": dim, "precision": "f32",
-                "mode": mode, "dt_div": 1, "quantity": "velocity_error", "error": 0.5}),
-            );
+            errors.extend(ignored);
         }
     }
-    json!({"command": "kimpact-accuracy (fixture)", "quick": false, "errors": errors, "costs": []})
+    let command = "kimpact-accuracy (fixture)".into();
+    let s = AccuracySummary {
+        command,
+        quick: false,
+        errors,
+        costs: vec![],
+    };
+    serde_json::to_value(s).unwrap()
 }
 
 /// The paths of one test's inputs and outputs.
@@ -210,7 +281,7 @@ fn table(md: &str) -> Vec<&str> {
 
 #[test]
 fn draws_one_point_per_joined_scene_quantity_and_mode() {
-    let f = Files::new("ok", &bench_csv(|_, _| None), &summary());
+    let f = Files::new("ok", &bench_csv(|_| ()), &summary());
     let out = plot_only(&f);
     assert!(out.status.success(), "{}", stderr(&out));
     let svg = std::fs::read_to_string(&f.svg).unwrap();
@@ -258,9 +329,11 @@ fn draws_one_point_per_joined_scene_quantity_and_mode() {
 
 #[test]
 fn a_nan_leaves_its_points_out_with_a_note() {
-    let csv = bench_csv(|scene, mode| {
-        (scene == "gas3d" && mode == "impulse")
-            .then(|| ("NaN".into(), "\"timed out, after 600 s\"".into()))
+    let csv = bench_csv(|r| {
+        if r.scene == "gas3d" && r.mode == Mode::Impulse {
+            r.ratio = f64::NAN;
+            r.error = Some("timed out, after 600 s".into());
+        }
     });
     let mut s = summary();
     // serde_json writes a NaN as null
@@ -287,8 +360,9 @@ fn a_nan_leaves_its_points_out_with_a_note() {
     assert_eq!(table(&md).len(), 13);
     assert!(md.contains("## Left out"), "{md}");
     let note = format!(
-        "- 3D gas, impact rate error, impulse: ×native is NaN in {}, line 20; the bench's error: timed out, after 600 s.",
-        f.csv.display()
+        "- 3D gas, impact rate error, impulse: ×native is NaN in {}, line {}; the bench's error: timed out, after 600 s.",
+        f.csv.display(),
+        line_of("gas3d", Mode::Impulse)
     );
     assert!(md.contains(&note), "no {note:?} in\n{md}");
     assert!(
@@ -299,14 +373,15 @@ fn a_nan_leaves_its_points_out_with_a_note() {
 
 #[test]
 fn a_missing_column_fails_naming_it_and_leaves_the_outputs_alone() {
-    let csv = bench_csv(|_, _| None).replacen(",ratio,", ",speedup,", 1);
+    let csv = bench_csv(|_| ()).replacen(",ratio,", ",speedup,", 1);
+    assert!(csv.lines().next().unwrap().contains(",speedup,"));
     let f = Files::new("column", &csv, &summary());
     f.old_outputs();
     let out = plot_only(&f);
     assert!(!out.status.success());
     let e = stderr(&out);
     assert!(
-        e.contains(&format!("{}: no column `ratio`", f.csv.display())),
+        e.contains(&f.csv.display().to_string()) && e.contains("missing field `ratio`"),
         "{e}"
     );
     f.assert_old_outputs();
@@ -314,7 +389,7 @@ fn a_missing_column_fails_naming_it_and_leaves_the_outputs_alone() {
 
 #[test]
 fn a_missing_file_fails_naming_it() {
-    let f = Files::new("file", &bench_csv(|_, _| None), &summary());
+    let f = Files::new("file", &bench_csv(|_| ()), &summary());
     f.old_outputs();
     std::fs::remove_file(&f.json).unwrap();
     let out = plot_only(&f);
@@ -329,25 +404,33 @@ fn a_missing_file_fails_naming_it() {
 
 #[test]
 fn an_unreadable_number_or_a_missing_mode_fails_naming_it() {
-    let csv = bench_csv(|scene, mode| {
-        (scene == "gas2d" && mode == "exact").then(|| ("1.6x".into(), String::new()))
-    });
+    // The ratio 1.6 of the 2D gas in exact mode written as "1.6x".
+    let line = line_of("gas2d", Mode::Exact);
+    let csv: String = bench_csv(|_| ())
+        .lines()
+        .enumerate()
+        .map(|(i, l)| match i + 1 == line {
+            true => l.replacen(",1.6,", ",1.6x,", 1) + "\n",
+            false => format!("{l}\n"),
+        })
+        .collect();
+    assert!(csv.contains(",1.6x,"));
     let f = Files::new("number", &csv, &summary());
     let out = plot_only(&f);
     assert!(!out.status.success());
     let e = stderr(&out);
+    let at = format!("{}, column `ratio`: ", f.csv.display());
     assert!(
-        e.contains(&format!(
-            "{}, line 11, column `ratio`: cannot read \"1.6x\" as a number",
-            f.csv.display()
-        )),
+        e.contains(&at) && e.contains(&format!("line: {line}")),
         "{e}"
     );
 
-    let csv: String = bench_csv(|_, _| None)
+    let line = line_of("gas2d", Mode::Restitution);
+    let csv: String = bench_csv(|_| ())
         .lines()
-        .filter(|l| !l.starts_with("restitution,gas2d,2,f32,false,1000,"))
-        .map(|l| format!("{l}\n"))
+        .enumerate()
+        .filter(|(i, _)| i + 1 != line)
+        .map(|(_, l)| format!("{l}\n"))
         .collect();
     let f = Files::new("mode", &csv, &summary());
     f.old_outputs();
@@ -369,12 +452,13 @@ fn an_unreadable_number_or_a_missing_mode_fails_naming_it() {
 fn an_entry_without_a_field_fails_naming_it() {
     let mut s = summary();
     s["errors"][5].as_object_mut().unwrap().remove("error");
-    let f = Files::new("entry", &bench_csv(|_, _| None), &s);
+    let f = Files::new("entry", &bench_csv(|_| ()), &s);
     let out = plot_only(&f);
     assert!(!out.status.success());
     let e = stderr(&out);
     assert!(
-        e.contains(&format!("{}, errors[5].error: missing", f.json.display())),
+        e.contains(&format!("{}, errors[5]", f.json.display()))
+            && e.contains("missing field `error`"),
         "{e}"
     );
 }
@@ -395,13 +479,13 @@ fn lonely_ladder(dir: &Path) -> PathBuf {
 
 #[test]
 fn without_its_siblings_a_run_says_how_to_build_them() {
-    let f = Files::new("siblings", &bench_csv(|_, _| None), &summary());
+    let f = Files::new("siblings", &bench_csv(|_| ()), &summary());
     f.old_outputs();
     let exe = lonely_ladder(&f.dir);
     let out = run(&exe, &f.args());
     assert!(!out.status.success());
     let e = stderr(&out);
-    assert!(e.contains("kimpact-bench is not at"), "{e}");
+    assert!(e.contains("kimpact-bench: cannot start"), "{e}");
     assert!(e.contains("cargo build --release -p kimpact-bench"), "{e}");
     f.assert_old_outputs();
 }
@@ -409,7 +493,7 @@ fn without_its_siblings_a_run_says_how_to_build_them() {
 #[cfg(unix)]
 #[test]
 fn a_failing_sibling_stops_the_run_naming_it() {
-    let f = Files::new("failing", &bench_csv(|_, _| None), &summary());
+    let f = Files::new("failing", &bench_csv(|_| ()), &summary());
     f.old_outputs();
     let exe = lonely_ladder(&f.dir);
     let bin = exe.parent().unwrap();
@@ -420,10 +504,10 @@ fn a_failing_sibling_stops_the_run_naming_it() {
     let out = run(&exe, &f.args());
     assert!(!out.status.success());
     let e = stderr(&out);
-    assert!(e.contains("kimpact-bench failed (exit status: 3)"), "{e}");
+    assert!(e.contains("kimpact-bench: failed (exit status: 3)"), "{e}");
     f.assert_old_outputs();
     let csv = std::fs::read_to_string(&f.csv).unwrap();
-    assert_eq!(csv, bench_csv(|_, _| None), "the bench's CSV was replaced");
+    assert_eq!(csv, bench_csv(|_| ()), "the bench's CSV was replaced");
 }
 
 #[cfg(unix)]
@@ -431,14 +515,16 @@ fn a_failing_sibling_stops_the_run_naming_it() {
 fn a_run_passes_the_published_arguments_and_puts_the_bench_results_in_place() {
     // before the run, a CSV with a point left out; the fake bench writes
     // the full fixture
-    let old = bench_csv(|scene, mode| {
-        (scene == "gas2d" && mode == "native").then(|| ("NaN".into(), String::new()))
+    let old = bench_csv(|r| {
+        if r.scene == "gas2d" && r.mode == Mode::Native {
+            r.ratio = f64::NAN;
+        }
     });
     let f = Files::new("run", &old, &summary());
     let exe = lonely_ladder(&f.dir);
     let bin = exe.parent().unwrap();
     let fixture = f.dir.join("fixture.csv");
-    std::fs::write(&fixture, bench_csv(|_, _| None)).unwrap();
+    std::fs::write(&fixture, bench_csv(|_| ())).unwrap();
     let bench = format!(
         "#!/bin/sh\necho \"$@\" > '{args}'\nwhile [ $# -gt 0 ]; do [ \"$1\" = --out ] && out=$2; shift; done\nmkdir -p \"$out\" && cp '{fixture}' \"$out/results.csv\" && echo '- command: `fake bench`' > \"$out/results.md\"\n",
         args = f.dir.join("bench-args").display(),
@@ -474,10 +560,7 @@ fn a_run_passes_the_published_arguments_and_puts_the_bench_results_in_place() {
         read("accuracy-args").trim(),
         format!("--out {} --quick", f.dir.display())
     );
-    assert_eq!(
-        std::fs::read_to_string(&f.csv).unwrap(),
-        bench_csv(|_, _| None)
-    );
+    assert_eq!(std::fs::read_to_string(&f.csv).unwrap(), bench_csv(|_| ()));
     assert!(
         std::fs::read_to_string(f.csv.with_extension("md"))
             .unwrap()
@@ -492,7 +575,7 @@ fn a_run_passes_the_published_arguments_and_puts_the_bench_results_in_place() {
 #[cfg(unix)]
 #[test]
 fn under_cargo_a_run_builds_the_siblings_first() {
-    let f = Files::new("cargo", &bench_csv(|_, _| None), &summary());
+    let f = Files::new("cargo", &bench_csv(|_| ()), &summary());
     f.old_outputs();
     let exe = lonely_ladder(&f.dir);
     let cargo = f.dir.join("fake-cargo");
@@ -514,7 +597,7 @@ fn under_cargo_a_run_builds_the_siblings_first() {
     };
     assert!(!out.status.success());
     let e = stderr(&out);
-    assert!(e.contains("cargo build failed (exit status: 4)"), "{e}");
+    assert!(e.contains("cargo build: failed (exit status: 4)"), "{e}");
     let args = std::fs::read_to_string(&recorded).unwrap();
     assert_eq!(args.trim(), "build --release -p kimpact-bench --bins");
     f.assert_old_outputs();

@@ -4,14 +4,33 @@
 
 use kimpact::Precision;
 use kimpact_harness::{
-    Backend, DT, GasSeries, HarnessError, Method, V, cradle_setup, gas_series, gas_setup,
-    short_run, two_ball_setup, z_setup,
+    Backend, CostRow, DT, ErrorRow, GasSeries, HarnessError, Method, V, cradle_setup, gas_series,
+    gas_setup, short_run, two_ball_setup, z_setup,
 };
+use serde::Serialize;
 
 use crate::format::{e, pct};
 use crate::stats::{ks, ks_maxwell};
-use crate::summary::{CostRow, ErrorRow};
 use crate::z::{ZResult, z_run};
+
+/// A line of `accuracy.csv`: one value of a series or of the cost sweep.
+#[derive(Serialize)]
+pub struct CsvRow {
+    /// `gas`, `cooling` or `cost`.
+    section: &'static str,
+    /// The build (`2D f32`…).
+    engine: &'static str,
+    /// The simulator (`reference` or a mode).
+    method: &'static str,
+    /// The time step is rapier's default divided by this.
+    dt_div: usize,
+    /// The time (series) or the time step (cost).
+    x: f64,
+    /// What `value` is.
+    quantity: &'static str,
+    /// The value.
+    value: f64,
+}
 
 /// What a job hands back: table rows (by table key), CSV lines, plot
 /// points (by panel title and simulator), notes, Z results and summary
@@ -19,7 +38,7 @@ use crate::z::{ZResult, z_run};
 #[derive(Default)]
 pub struct Out {
     pub rows: Vec<(String, Vec<String>)>,
-    pub csv: Vec<String>,
+    pub csv: Vec<CsvRow>,
     pub points: Vec<(String, Method, f64, f64)>,
     pub notes: Vec<String>,
     pub z: Vec<ZEntry>,
@@ -45,21 +64,25 @@ impl Out {
         self.rows.push((table.to_owned(), cells));
     }
 
-    #[allow(clippy::too_many_arguments)]
+    /// A line of the CSV: `(section, engine, method, dt_div)`, then the
+    /// point.
     fn csv(
         &mut self,
-        section: &str,
-        engine: &str,
-        method: Method,
-        dt_div: usize,
+        (section, engine, method, dt_div): (&'static str, &'static str, Method, usize),
         x: f64,
-        quantity: &str,
+        quantity: &'static str,
         value: f64,
     ) {
-        self.csv.push(format!(
-            "{section},{engine},{},{dt_div},{x},{quantity},{value:e}",
-            method.name()
-        ));
+        let method = method.name();
+        self.csv.push(CsvRow {
+            section,
+            engine,
+            method,
+            dt_div,
+            x,
+            quantity,
+            value,
+        });
     }
 
     fn point(&mut self, panel: &str, method: Method, x: f64, y: f64) {
@@ -85,7 +108,7 @@ impl Out {
                 precision: b.precision,
                 mode,
                 dt_div,
-                quantity,
+                quantity: quantity.to_owned(),
                 error,
                 noise_floor,
             });
@@ -303,12 +326,13 @@ pub fn gas_jobs<const D: usize>(
             continue;
         }
         for i in 0..s.t.len() {
-            out.csv("gas", b.label, m, 1, s.t[i], "energy", s.energy[i]);
+            let key = ("gas", b.label, m, 1);
+            out.csv(key, s.t[i], "energy", s.energy[i]);
             if i > 0 {
                 let rate = (s.impacts[i] - s.impacts[i - 1]) as f64 / (s.t[i] - s.t[i - 1]);
-                out.csv("gas", b.label, m, 1, s.t[i], "impact_rate", rate);
+                out.csv(key, s.t[i], "impact_rate", rate);
             }
-            out.csv("gas", b.label, m, 1, s.t[i], "momentum", s.momentum[i]);
+            out.csv(key, s.t[i], "momentum", s.momentum[i]);
         }
     }
     Ok(out)
@@ -398,10 +422,7 @@ pub fn cooling_jobs<const D: usize>(b: Backend<D>, sizes: &Sizes) -> Result<Out,
     out.row("cooling", row("reference", &r, false));
     for i in 0..r.t.len() {
         out.csv(
-            "cooling",
-            b.label,
-            Method::Reference,
-            1,
+            ("cooling", b.label, Method::Reference, 1),
             r.t[i],
             "energy",
             r.energy[i],
@@ -428,10 +449,7 @@ pub fn cooling_jobs<const D: usize>(b: Backend<D>, sizes: &Sizes) -> Result<Out,
         if *method != Method::Reference {
             for i in 0..s.t.len() {
                 out.csv(
-                    "cooling",
-                    b.label,
-                    *method,
-                    1,
+                    ("cooling", b.label, *method, 1),
                     s.t[i],
                     "energy",
                     s.energy[i],
@@ -536,7 +554,7 @@ pub fn z_summary(z: &[ZEntry]) -> Vec<ErrorRow> {
                 precision: x.precision,
                 mode,
                 dt_div: 1,
-                quantity: "single_wall_z_vs_reference",
+                quantity: "single_wall_z_vs_reference".to_owned(),
                 error: dev.abs(),
                 noise_floor: Some(err),
             });
@@ -599,7 +617,7 @@ pub fn cost_jobs<const D: usize>(b: Backend<D>, sizes: &Sizes) -> Result<Out, Ha
                 ("impact_velocity_error", one.dv),
                 ("cradle_velocity_error", cradle.dv),
             ] {
-                out.csv("cost", b.label, method, div, dt, q, v);
+                out.csv(("cost", b.label, method, div), dt, q, v);
             }
             out.error("gas", &b, method, div, "energy_error", energy, None);
             out.error(

@@ -1,0 +1,63 @@
+//! Whole-file writes for every tool of this package: each file goes into a
+//! temporary file in its own folder (`tempfile`), and only once every one
+//! is written are they renamed into place (`NamedTempFile::persist`). On
+//! an error the temporary files are removed and the old files stay.
+
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+
+/// A file that could not be written.
+#[derive(Debug, thiserror::Error)]
+#[error("cannot write {}: {source}", path.display())]
+pub struct WriteError {
+    /// The file.
+    pub path: PathBuf,
+    /// The file system's reason.
+    pub source: std::io::Error,
+}
+
+/// Write every `(path, contents)` whole, all or none (as far as the file
+/// system allows: a rename that fails after others succeeded leaves
+/// those). Missing folders are created.
+///
+/// # Errors
+/// [`WriteError`] naming the first file that could not be written.
+pub fn write_files(files: &[(&Path, &[u8])]) -> Result<(), WriteError> {
+    let mut temps = Vec::with_capacity(files.len());
+    for &(path, contents) in files {
+        let error = |source| WriteError {
+            path: path.to_owned(),
+            source,
+        };
+        let folder = match path.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p,
+            _ => Path::new("."),
+        };
+        std::fs::create_dir_all(folder).map_err(error)?;
+        let mut temp = tempfile::NamedTempFile::new_in(folder).map_err(error)?;
+        temp.write_all(contents).map_err(error)?;
+        // A temporary file is private (0600); the results are not.
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            let public = std::fs::Permissions::from_mode(0o644);
+            temp.as_file().set_permissions(public).map_err(error)?;
+        }
+        temps.push(temp);
+    }
+    for (&(path, _), temp) in files.iter().zip(temps) {
+        temp.persist(path).map_err(|e| WriteError {
+            path: path.to_owned(),
+            source: e.error,
+        })?;
+    }
+    Ok(())
+}
+
+/// Write `contents` to `path` whole (see [`write_files`]).
+///
+/// # Errors
+/// [`WriteError`].
+pub fn write_file(path: &Path, contents: &[u8]) -> Result<(), WriteError> {
+    write_files(&[(path, contents)])
+}

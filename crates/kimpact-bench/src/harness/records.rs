@@ -1,0 +1,152 @@
+//! What the tools hand each other: a row of the bench's `results.csv` and
+//! the accuracy study's `accuracy-summary.json`. The bench and the study
+//! serialize these types; `kimpact-ladder` deserializes the same ones.
+
+use kimpact::{Mode, Precision};
+use serde::{Deserialize, Deserializer, Serialize};
+
+/// One row of the bench's `results.csv`: a mode on one scene, size and
+/// precision. Times are medians of the process's CPU time per step, in µs.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BenchRow {
+    /// The bench scene (`gas2d`, `pit3d`…).
+    pub scene: String,
+    /// Its dimension.
+    pub dim: usize,
+    /// The build's precision.
+    pub precision: Precision,
+    /// Whether rapier ran with its `parallel` feature.
+    pub parallel: bool,
+    /// Dynamic balls in the scene.
+    pub balls: usize,
+    /// The mode.
+    pub mode: Mode,
+    /// Timing runs pooled (native's row: every mode's).
+    pub rounds: usize,
+    /// Time samples pooled.
+    pub samples: usize,
+    /// Median CPU time per step.
+    pub median_us: f64,
+    /// Median wall time per step.
+    pub wall_median_us: f64,
+    /// Native's median CPU time per step in the same processes.
+    pub native_median_us: f64,
+    /// ×native: `median_us / native_median_us` (NaN when not measured).
+    pub ratio: f64,
+    /// The lowest, highest and median ratio of the single rounds.
+    pub ratio_min: f64,
+    /// See `ratio_min`.
+    pub ratio_max: f64,
+    /// See `ratio_min`.
+    pub ratio_median_rounds: f64,
+    /// `median_us − native_median_us`: what the mode adds to a step.
+    pub delta_us: f64,
+    /// Heap allocations per measured step, all threads.
+    pub allocs_per_step: f64,
+    /// Native's, in the same processes.
+    pub native_allocs_per_step: f64,
+    /// The share of the allocations whose stacks lead to kimpact's code,
+    /// times `allocs_per_step` (NaN: not attributed).
+    pub kimpact_allocs_per_step: f64,
+    /// Peak resident memory of a process running the mode alone.
+    pub peak_rss_mib: f64,
+    /// Impacts the law resolved per measured step.
+    pub impacts_per_step: f64,
+    /// Relative change of the energy (kinetic and potential from the
+    /// floor) over the measured steps, the largest over the rounds.
+    pub energy_rel_change: f64,
+    /// Balls with a non-finite position or velocity at the end.
+    pub non_finite: usize,
+    /// Balls out of the scene's region at the end.
+    pub escaped: usize,
+    /// Steps that hit the law's cap on impacts per step.
+    pub cap_hits: u64,
+    /// Pairs the law skipped for non-finite data.
+    pub skipped: u64,
+    /// Awake dynamic bodies at the end.
+    pub awake_end: usize,
+    /// Why a run of the row failed, if one did.
+    pub error: Option<String>,
+}
+
+/// One headline error of rapier in one mode and build on one scene of the
+/// accuracy study.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ErrorRow {
+    /// `one_impact` (masses 1:10, elastic), `one_impact_dissipative` (1:1,
+    /// d̃ = 0.05), `cradle`, `gas`, `cooling` or
+    /// `compressibility_<D>d_eta<η>`.
+    pub scene: String,
+    /// 2 or 3.
+    pub dimension: usize,
+    /// The rapier build's precision.
+    pub precision: Precision,
+    /// kimpact's mode (`native`: rapier unchanged).
+    pub mode: Mode,
+    /// The time step is rapier's default divided by this.
+    pub dt_div: usize,
+    /// What `error` measures (see `docs/accuracy.md`): `velocity_error`,
+    /// `energy_error`, `ks_speeds_vs_reference`, `impact_rate_error`,
+    /// `worst_energy_deviation` or `single_wall_z_vs_reference`.
+    pub quantity: String,
+    /// The error against the exact reference (absolute for velocities,
+    /// relative otherwise; 0 is exact). NaN is written `null`.
+    #[serde(deserialize_with = "number")]
+    pub error: f64,
+    /// On chaotic scenes, the same quantity between the reference and the
+    /// reference from other initial balls (or, for Z, one standard error):
+    /// an error below it is noise.
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "some_number"
+    )]
+    pub noise_floor: Option<f64>,
+}
+
+/// The cost of one mode in one build: the elastic gas of the cost runs.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CostRow {
+    /// 2 or 3.
+    pub dimension: usize,
+    /// The rapier build's precision.
+    pub precision: Precision,
+    /// kimpact's mode.
+    pub mode: Mode,
+    /// The time step is rapier's default divided by this.
+    pub dt_div: usize,
+    /// Balls of the gas.
+    pub balls: usize,
+    /// Milliseconds per step (wall clock, one thread).
+    #[serde(deserialize_with = "number")]
+    pub ms_per_step: f64,
+    /// CPU seconds per simulated second.
+    #[serde(deserialize_with = "number")]
+    pub cpu_s_per_sim_s: f64,
+}
+
+/// Everything `accuracy-summary.json` holds.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct AccuracySummary {
+    /// The command that wrote it.
+    #[serde(default)]
+    pub command: String,
+    /// Whether it was a `--quick` smoke run (its errors mean nothing).
+    #[serde(default)]
+    pub quick: bool,
+    /// The headline errors.
+    pub errors: Vec<ErrorRow>,
+    /// The cost of each mode.
+    #[serde(default)]
+    pub costs: Vec<CostRow>,
+}
+
+/// A number, `null` (serde_json's NaN) read as NaN.
+fn number<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
+}
+
+/// A present number, `null` read as NaN (an absent one is `None`).
+fn some_number<'de, D: Deserializer<'de>>(d: D) -> Result<Option<f64>, D::Error> {
+    number(d).map(Some)
+}
