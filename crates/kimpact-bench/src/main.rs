@@ -127,29 +127,16 @@ pub trait AboutZ<R> {
     fn about_z(a: R) -> Self;
 }
 
-impl AboutZ<f32> for f32 {
-    fn about_z(a: f32) -> Self {
-        a
-    }
+macro_rules! about_z {
+    ($($t:ty: $r:ty => |$a:ident| $e:expr),*) => {$(
+        impl AboutZ<$r> for $t {
+            fn about_z($a: $r) -> Self { $e }
+        }
+    )*};
 }
-
-impl AboutZ<f64> for f64 {
-    fn about_z(a: f64) -> Self {
-        a
-    }
-}
-
-impl AboutZ<f32> for kimpact3d::math::Vector {
-    fn about_z(a: f32) -> Self {
-        Self::Z * a
-    }
-}
-
-impl AboutZ<f64> for kimpact3d_f64::math::Vector {
-    fn about_z(a: f64) -> Self {
-        Self::Z * a
-    }
-}
+about_z!(f32: f32 => |a| a, f64: f64 => |a| a,
+    kimpact3d::math::Vector: f32 => |a| Self::Z * a,
+    kimpact3d_f64::math::Vector: f64 => |a| Self::Z * a);
 
 /// A comma-separated list flag of `T`'s names (listed in `--help`), parsed
 /// by `T`'s own `FromStr`.

@@ -1,9 +1,10 @@
-//! `kimpact-ladder --plot-only` on small fixtures written to a temporary
-//! folder: the plot holds one point (one `<circle>`) per joined (scene,
-//! quantity, mode), the page the joined table; a NaN leaves its points out
-//! with a note; a missing column, file or mode fails with a message naming
-//! it and leaves existing outputs as they were; a run without its sibling
-//! programs, or with one that fails, says which.
+//! `kimpact-ladder` on small fixtures written to a temporary folder with
+//! the types the bench and the accuracy study write ([`BenchRow`],
+//! [`AccuracySummary`]): the plot holds one point (one `<circle>`) per
+//! joined (scene, quantity, mode), the page the joined table; a NaN leaves
+//! its points out with a note; a missing column, file, field or mode, or an
+//! unreadable number, fails with a message naming it and leaves existing
+//! outputs as they were.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -170,7 +171,6 @@ fn summary() -> Value {
 
 /// The paths of one test's inputs and outputs.
 struct Files {
-    dir: PathBuf,
     csv: PathBuf,
     json: PathBuf,
     svg: PathBuf,
@@ -186,7 +186,6 @@ impl Files {
             json: dir.join("accuracy-summary.json"),
             svg: dir.join("out/ladder.svg"),
             md: dir.join("out/ladder.md"),
-            dir,
         };
         std::fs::create_dir_all(f.csv.parent().unwrap()).unwrap();
         std::fs::write(&f.csv, csv).unwrap();
@@ -236,36 +235,12 @@ fn entries(dir: &Path) -> Vec<String> {
     v
 }
 
-/// Held while a test writes a script or runs a process: a process forked
-/// while another thread holds a script open for writing would keep it open
-/// ("text file busy" when the script is then run).
-static SPAWN: std::sync::Mutex<()> = std::sync::Mutex::new(());
-
-/// Run `exe` with `args`.
-fn run(exe: &Path, args: &[std::ffi::OsString]) -> Output {
-    let _spawn = SPAWN.lock().unwrap_or_else(|e| e.into_inner());
-    // Not under cargo: a run would build the real siblings first.
-    Command::new(exe)
-        .args(args)
-        .env_remove("CARGO")
+/// Run the ladder on `files`.
+fn ladder(files: &Files) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_kimpact-ladder"))
+        .args(files.args())
         .output()
         .expect("kimpact-ladder starts")
-}
-
-/// Write the executable script `text` at `path`.
-#[cfg(unix)]
-fn write_script(path: &Path, text: &str) {
-    use std::os::unix::fs::PermissionsExt;
-    let _spawn = SPAWN.lock().unwrap_or_else(|e| e.into_inner());
-    std::fs::write(path, text).unwrap();
-    std::fs::set_permissions(path, std::fs::Permissions::from_mode(0o755)).unwrap();
-}
-
-/// Run the ladder with `--plot-only` on `files`.
-fn plot_only(files: &Files) -> Output {
-    let mut args = vec!["--plot-only".into()];
-    args.extend(files.args());
-    run(Path::new(env!("CARGO_BIN_EXE_kimpact-ladder")), &args)
 }
 
 fn stderr(o: &Output) -> String {
@@ -282,7 +257,7 @@ fn table(md: &str) -> Vec<&str> {
 #[test]
 fn draws_one_point_per_joined_scene_quantity_and_mode() {
     let f = Files::new("ok", &bench_csv(|_| ()), &summary());
-    let out = plot_only(&f);
+    let out = ladder(&f);
     assert!(out.status.success(), "{}", stderr(&out));
     let svg = std::fs::read_to_string(&f.svg).unwrap();
     assert!(svg.starts_with("<svg"), "not an SVG");
@@ -318,7 +293,7 @@ fn draws_one_point_per_joined_scene_quantity_and_mode() {
     assert!(rows[0].starts_with("| 2D gas | impact rate error | native"));
     assert!(rows[15].starts_with("| 3D gas | energy error | exact"));
     assert!(md.contains("![error against × native rapier, per mode and scene](ladder.svg)"));
-    assert!(md.contains("--bin kimpact-ladder -- --plot-only --bench-csv"));
+    assert!(md.contains("--bin kimpact-ladder -- --bench-csv"));
     assert!(md.contains("written by `kimpact-accuracy (fixture)`"));
     assert!(!md.contains("## Left out"));
     assert_eq!(
@@ -351,7 +326,7 @@ fn a_nan_leaves_its_points_out_with_a_note() {
         .unwrap();
     entry["error"] = Value::Null;
     let f = Files::new("nan", &csv, &s);
-    let out = plot_only(&f);
+    let out = ladder(&f);
     assert!(out.status.success(), "{}", stderr(&out));
     let svg = std::fs::read_to_string(&f.svg).unwrap();
     assert_eq!(svg.matches("<circle").count(), 16 - 3);
@@ -377,7 +352,7 @@ fn a_missing_column_fails_naming_it_and_leaves_the_outputs_alone() {
     assert!(csv.lines().next().unwrap().contains(",speedup,"));
     let f = Files::new("column", &csv, &summary());
     f.old_outputs();
-    let out = plot_only(&f);
+    let out = ladder(&f);
     assert!(!out.status.success());
     let e = stderr(&out);
     assert!(
@@ -392,7 +367,7 @@ fn a_missing_file_fails_naming_it() {
     let f = Files::new("file", &bench_csv(|_| ()), &summary());
     f.old_outputs();
     std::fs::remove_file(&f.json).unwrap();
-    let out = plot_only(&f);
+    let out = ladder(&f);
     assert!(!out.status.success());
     let e = stderr(&out);
     assert!(
@@ -416,7 +391,7 @@ fn an_unreadable_number_or_a_missing_mode_fails_naming_it() {
         .collect();
     assert!(csv.contains(",1.6x,"));
     let f = Files::new("number", &csv, &summary());
-    let out = plot_only(&f);
+    let out = ladder(&f);
     assert!(!out.status.success());
     let e = stderr(&out);
     let at = format!("{}, column `ratio`: ", f.csv.display());
@@ -434,7 +409,7 @@ fn an_unreadable_number_or_a_missing_mode_fails_naming_it() {
         .collect();
     let f = Files::new("mode", &csv, &summary());
     f.old_outputs();
-    let out = plot_only(&f);
+    let out = ladder(&f);
     assert!(!out.status.success());
     let e = stderr(&out);
     assert!(
@@ -453,7 +428,7 @@ fn an_entry_without_a_field_fails_naming_it() {
     let mut s = summary();
     s["errors"][5].as_object_mut().unwrap().remove("error");
     let f = Files::new("entry", &bench_csv(|_| ()), &s);
-    let out = plot_only(&f);
+    let out = ladder(&f);
     assert!(!out.status.success());
     let e = stderr(&out);
     assert!(
@@ -461,144 +436,4 @@ fn an_entry_without_a_field_fails_naming_it() {
             && e.contains("missing field `error`"),
         "{e}"
     );
-}
-
-/// The ladder's binary in a folder of its own (a hard link, or a copy),
-/// beside which a run looks for its siblings.
-fn lonely_ladder(dir: &Path) -> PathBuf {
-    let bin = dir.join("bin");
-    std::fs::create_dir_all(&bin).unwrap();
-    let exe = bin.join(format!("kimpact-ladder{}", std::env::consts::EXE_SUFFIX));
-    let src = Path::new(env!("CARGO_BIN_EXE_kimpact-ladder"));
-    let _spawn = SPAWN.lock().unwrap_or_else(|e| e.into_inner());
-    if std::fs::hard_link(src, &exe).is_err() {
-        std::fs::copy(src, &exe).unwrap();
-    }
-    exe
-}
-
-#[test]
-fn without_its_siblings_a_run_says_how_to_build_them() {
-    let f = Files::new("siblings", &bench_csv(|_| ()), &summary());
-    f.old_outputs();
-    let exe = lonely_ladder(&f.dir);
-    let out = run(&exe, &f.args());
-    assert!(!out.status.success());
-    let e = stderr(&out);
-    assert!(e.contains("kimpact-bench: cannot start"), "{e}");
-    assert!(e.contains("cargo build --release -p kimpact-bench"), "{e}");
-    f.assert_old_outputs();
-}
-
-#[cfg(unix)]
-#[test]
-fn a_failing_sibling_stops_the_run_naming_it() {
-    let f = Files::new("failing", &bench_csv(|_| ()), &summary());
-    f.old_outputs();
-    let exe = lonely_ladder(&f.dir);
-    let bin = exe.parent().unwrap();
-    for (name, code) in [("kimpact-bench", 3), ("kimpact-accuracy", 0)] {
-        let path = bin.join(name);
-        write_script(&path, &format!("#!/bin/sh\nexit {code}\n"));
-    }
-    let out = run(&exe, &f.args());
-    assert!(!out.status.success());
-    let e = stderr(&out);
-    assert!(e.contains("kimpact-bench: failed (exit status: 3)"), "{e}");
-    f.assert_old_outputs();
-    let csv = std::fs::read_to_string(&f.csv).unwrap();
-    assert_eq!(csv, bench_csv(|_| ()), "the bench's CSV was replaced");
-}
-
-#[cfg(unix)]
-#[test]
-fn a_run_passes_the_published_arguments_and_puts_the_bench_results_in_place() {
-    // before the run, a CSV with a point left out; the fake bench writes
-    // the full fixture
-    let old = bench_csv(|r| {
-        if r.scene == "gas2d" && r.mode == Mode::Native {
-            r.ratio = f64::NAN;
-        }
-    });
-    let f = Files::new("run", &old, &summary());
-    let exe = lonely_ladder(&f.dir);
-    let bin = exe.parent().unwrap();
-    let fixture = f.dir.join("fixture.csv");
-    std::fs::write(&fixture, bench_csv(|_| ())).unwrap();
-    let bench = format!(
-        "#!/bin/sh\necho \"$@\" > '{args}'\nwhile [ $# -gt 0 ]; do [ \"$1\" = --out ] && out=$2; shift; done\nmkdir -p \"$out\" && cp '{fixture}' \"$out/results.csv\" && echo '- command: `fake bench`' > \"$out/results.md\"\n",
-        args = f.dir.join("bench-args").display(),
-        fixture = fixture.display(),
-    );
-    let accuracy = format!(
-        "#!/bin/sh\necho \"$@\" > '{}'\n",
-        f.dir.join("accuracy-args").display()
-    );
-    for (name, script) in [("kimpact-bench", bench), ("kimpact-accuracy", accuracy)] {
-        let path = bin.join(name);
-        write_script(&path, &script);
-    }
-    let scratch = f.dir.join("scratch");
-    let mut args = f.args();
-    args.extend([
-        "--quick".into(),
-        "--bench-out".into(),
-        scratch.clone().into_os_string(),
-    ]);
-    let out = run(&exe, &args);
-    assert!(out.status.success(), "{}", stderr(&out));
-
-    let read = |name: &str| std::fs::read_to_string(f.dir.join(name)).unwrap();
-    assert_eq!(
-        read("bench-args").trim(),
-        format!(
-            "--balls 1000 --memory-warmup 600 --out {}",
-            scratch.display()
-        )
-    );
-    assert_eq!(
-        read("accuracy-args").trim(),
-        format!("--out {} --quick", f.dir.display())
-    );
-    assert_eq!(std::fs::read_to_string(&f.csv).unwrap(), bench_csv(|_| ()));
-    assert!(
-        std::fs::read_to_string(f.csv.with_extension("md"))
-            .unwrap()
-            .contains("fake bench")
-    );
-    let svg = std::fs::read_to_string(&f.svg).unwrap();
-    assert_eq!(svg.matches("<circle").count(), 16);
-    let md = std::fs::read_to_string(&f.md).unwrap();
-    assert!(md.contains("written by `fake bench`"), "{md}");
-}
-
-#[cfg(unix)]
-#[test]
-fn under_cargo_a_run_builds_the_siblings_first() {
-    let f = Files::new("cargo", &bench_csv(|_| ()), &summary());
-    f.old_outputs();
-    let exe = lonely_ladder(&f.dir);
-    let cargo = f.dir.join("fake-cargo");
-    let recorded = f.dir.join("cargo-args");
-    write_script(
-        &cargo,
-        &format!(
-            "#!/bin/sh\necho \"$@\" > '{}'\nexit 4\n",
-            recorded.display()
-        ),
-    );
-    let out = {
-        let _spawn = SPAWN.lock().unwrap_or_else(|e| e.into_inner());
-        Command::new(&exe)
-            .args(f.args())
-            .env("CARGO", &cargo)
-            .output()
-            .unwrap()
-    };
-    assert!(!out.status.success());
-    let e = stderr(&out);
-    assert!(e.contains("cargo build: failed (exit status: 4)"), "{e}");
-    let args = std::fs::read_to_string(&recorded).unwrap();
-    assert_eq!(args.trim(), "build --release -p kimpact-bench --bins");
-    f.assert_old_outputs();
 }

@@ -99,23 +99,23 @@ fn jobs<'a>(sizes: &'a Sizes) -> Result<Vec<Job<'a>>, HarnessError> {
     ];
     let r = Method::Reference;
     jobs.push(Box::new(move || {
-        z_job(B3_F64, 0.3, n3_large, ell3_large, r, sizes)
+        z_job(B3_F64, (0.3, n3_large, ell3_large), r, sizes)
     }));
-    jobs.push(Box::new(move || z_job(B3_F64, 0.3, n3, ell3, r, sizes)));
+    jobs.push(Box::new(move || z_job(B3_F64, (0.3, n3, ell3), r, sizes)));
     for (i, eta) in [0.3, 0.5].into_iter().enumerate() {
         let n = n2[i];
-        jobs.push(Box::new(move || z_job(B2_F64, eta, n, ell2, r, sizes)));
+        jobs.push(Box::new(move || z_job(B2_F64, (eta, n, ell2), r, sizes)));
     }
     for m in Method::RAPIER {
         for b in [B3_F32, B3_F64] {
-            jobs.push(Box::new(move || z_job(b, 0.3, n3, ell3, m, sizes)));
+            jobs.push(Box::new(move || z_job(b, (0.3, n3, ell3), m, sizes)));
         }
     }
     for (i, eta) in [0.3, 0.5].into_iter().enumerate() {
         let n = n2[i];
         for m in Method::RAPIER {
             for b in [B2_F32, B2_F64] {
-                jobs.push(Box::new(move || z_job(b, eta, n, ell2, m, sizes)));
+                jobs.push(Box::new(move || z_job(b, (eta, n, ell2), m, sizes)));
             }
         }
     }
@@ -164,44 +164,38 @@ fn run(args: &Args) -> Result<(), RunError> {
         // One job per task, taken in order: the longest start first.
         jobs.into_par_iter().with_max_len(1).map(run).collect()
     });
-    let mut outs = outs?;
+    let mut all = Out::default();
+    outs?.into_iter().for_each(|o| all.absorb(o));
     // Phase 2: the cost of accuracy, one job at a time so that the timings
     // do not share the cores with other jobs of this program.
-    eprintln!(
-        "[{:>6.1}s] cost of accuracy (one thread)",
-        started.elapsed().as_secs_f64()
-    );
-    outs.push(cost_jobs(B2_F32, sizes)?);
-    outs.push(cost_jobs(B2_F64, sizes)?);
-    outs.push(cost_jobs(B3_F32, sizes)?);
-    outs.push(cost_jobs(B3_F64, sizes)?);
+    let t = started.elapsed().as_secs_f64();
+    eprintln!("[{t:>6.1}s] cost of accuracy (one thread)");
+    all.absorb(cost_jobs(B2_F32, sizes)?);
+    all.absorb(cost_jobs(B2_F64, sizes)?);
+    all.absorb(cost_jobs(B3_F32, sizes)?);
+    all.absorb(cost_jobs(B3_F64, sizes)?);
     let elapsed = started.elapsed().as_secs_f64();
 
     let mut tables: BTreeMap<String, Vec<Vec<String>>> = BTreeMap::new();
+    for (k, r) in all.rows {
+        tables.entry(k).or_default().push(r);
+    }
+    let (z_main, z_checks) = report::z_tables(&all.z);
+    tables.insert("z".to_owned(), z_main);
+    tables.insert("z_checks".to_owned(), z_checks);
+    all.errors.extend(z_summary(&all.z));
     let mut csv = csv::Writer::from_writer(Vec::new());
-    let (mut points, mut notes, mut z_results) = (Vec::new(), Vec::new(), Vec::new());
-    let (mut errors, mut costs) = (Vec::new(), Vec::new());
-    for o in outs {
-        for (k, r) in o.rows {
-            tables.entry(k).or_default().push(r);
-        }
-        for row in &o.csv {
-            csv.serialize(row)
-                .map_err(|e| RunError::Output(e.to_string()))?;
-        }
-        points.extend(o.points);
-        notes.extend(o.notes);
-        z_results.extend(o.z);
-        errors.extend(o.errors);
-        costs.extend(o.costs);
+    let csv_error = |e: csv::Error| RunError::Output(e.to_string());
+    csv.write_record(experiments::CSV_HEADER)
+        .map_err(csv_error)?;
+    for row in &all.csv {
+        csv.serialize(row).map_err(csv_error)?;
     }
     let csv = csv
         .into_inner()
         .map_err(|e| RunError::Output(e.to_string()))?;
-    let (z_main, z_checks) = report::z_tables(&z_results);
-    tables.insert("z".to_owned(), z_main);
-    tables.insert("z_checks".to_owned(), z_checks);
-    errors.extend(z_summary(&z_results));
+    let (points, notes) = (all.points, all.notes);
+    let (errors, costs) = (all.errors, all.costs);
 
     let svg = plot::svg(&plot::panels(&points, sizes.gas_n), 3).map_err(RunError::Plot)?;
     let summary = AccuracySummary {

@@ -56,7 +56,7 @@ pub fn calibrate<const D: usize>(
     let mut n = (eta * ell.product() / ball_volume(D, R)).round() as usize;
     for _ in 0..2 {
         let setup = z_setup::<D>(n, ell, 11)?;
-        let z = z_run(b, &setup, Method::Reference, ell, 0.2 * t, t, 4, 0.5, w_min)?;
+        let z = z_run(b, &setup, Method::Reference, ell, (0.2 * t, t, 4), w_min)?;
         if let Some(e) = z.error {
             return Err(e);
         }
@@ -113,23 +113,22 @@ fn pressure<const D: usize>(f: &[f64; D], ell: &V<D>) -> f64 {
     }
 }
 
+/// Time units between two samples of the density.
+const SAMPLE: f64 = 0.5;
+
 /// Z from a run: equilibrate for `t_eq`, then measure over `t_run` in
 /// `blocks` blocks, counting the centres in the regions at least `ws(&ell)[i]`
-/// from every wall every `sample` time units. A run that stops early
+/// from every wall every [`SAMPLE`] time units. A run that stops early
 /// returns what it has, with `error` set.
 ///
 /// # Errors
 /// A scene the simulator refuses.
-#[allow(clippy::too_many_arguments)]
 pub fn z_run<const D: usize>(
     b: &Backend<D>,
     setup: &Setup<D>,
     method: Method,
     ell: V<D>,
-    t_eq: f64,
-    t_run: f64,
-    blocks: usize,
-    sample: f64,
+    (t_eq, t_run, blocks): (f64, f64, usize),
     w_min: f64,
 ) -> Result<ZResult, HarnessError> {
     let n = setup.balls.len();
@@ -161,7 +160,7 @@ pub fn z_run<const D: usize>(
     let kt0 = kt(&sim.state());
     let mut last = sim.totals();
     let mut t_last = sim.time();
-    let samples_per_block = ((t_run / blocks as f64) / sample).round().max(1.0) as usize;
+    let samples_per_block = ((t_run / blocks as f64) / SAMPLE).round().max(1.0) as usize;
     let (mut z_blocks, mut single_blocks) = (Vec::new(), Vec::new());
     let (mut sum_f, mut sum_t, mut sum_kt) = ([0.0; D], 0.0, 0.0);
     let mut sum_rho = [0.0; NW];
@@ -169,7 +168,7 @@ pub fn z_run<const D: usize>(
     for _ in 0..blocks {
         let (mut rho, mut temp) = ([0.0; NW], 0.0);
         for _ in 0..samples_per_block {
-            let target = steps_of(sim.time() + sample);
+            let target = steps_of(sim.time() + SAMPLE);
             if let Err(e) = sim.advance_to(target) {
                 out.error = Some(e);
                 return Ok(out);

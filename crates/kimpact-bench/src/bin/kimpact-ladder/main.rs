@@ -2,50 +2,34 @@
 //!
 //! ```text
 //! cargo run --release -p kimpact-bench --bin kimpact-ladder
-//! cargo run --release -p kimpact-bench --bin kimpact-ladder -- --plot-only
 //! ```
 //!
-//! By default it regenerates its inputs first: `kimpact-bench` with the
-//! arguments of the published run ([`BENCH_ARGS`]) into a scratch folder,
-//! whose `results.csv` and `results.md` then replace `--bench-csv` and the
-//! `.md` beside it, and `kimpact-accuracy` into the folder of
-//! `--accuracy-json`; both are the programs beside this one (under
-//! `cargo run`, built first). Then it reads the bench's rows and the
-//! study's summary with the types that wrote them ([`BenchRow`],
-//! [`AccuracySummary`]), joins them (`join.rs` holds every rule) and writes
+//! It reads what the bench wrote (`docs/bench/results.csv`, rows of
+//! [`BenchRow`]) and what the accuracy study wrote
+//! (`docs/accuracy-summary.json`, an [`AccuracySummary`]) with the types
+//! that wrote them, joins them (`join.rs` holds every rule) and writes
 //! `docs/ladder.svg` and `docs/ladder.md`, whole or not at all.
-//! `--plot-only` only reads and draws.
 
 mod join;
 mod page;
 mod plot;
 
-use std::ffi::OsString;
 use std::path::{Path, PathBuf};
-use std::process::{Command, ExitCode};
+use std::process::ExitCode;
 
 use clap::Parser;
 use kimpact_harness::{AccuracySummary, BenchRow, WriteError, write_files};
 
-/// Error against ×native per mode and scene: regenerate the bench's and
-/// the accuracy study's results, and draw them together.
+/// Error against ×native per mode and scene: the bench's and the accuracy
+/// study's results drawn together.
 #[derive(Parser, Debug)]
 #[command(name = "kimpact-ladder", version, about)]
 struct Args {
-    /// Only read the existing files and draw: run neither kimpact-bench
-    /// nor kimpact-accuracy.
-    #[arg(long)]
-    plot_only: bool,
-    /// Pass `--quick` to kimpact-accuracy (a smoke run whose errors mean
-    /// nothing; it still writes into the summary's folder).
-    #[arg(long, conflicts_with = "plot_only")]
-    quick: bool,
-    /// The bench's CSV (×native per scene and mode); a run replaces it and
-    /// the `.md` beside it.
+    /// The bench's CSV (×native per scene and mode; the command that wrote
+    /// it is read from the `.md` beside it).
     #[arg(long, default_value = "docs/bench/results.csv")]
     bench_csv: PathBuf,
-    /// The accuracy summary (errors per scene and mode); a run writes it,
-    /// with the rest of kimpact-accuracy's files, into its folder.
+    /// The accuracy summary (errors per scene and mode).
     #[arg(long, default_value = "docs/accuracy-summary.json")]
     accuracy_json: PathBuf,
     /// The plot to write.
@@ -54,10 +38,6 @@ struct Args {
     /// The page to write.
     #[arg(long, default_value = "docs/ladder.md")]
     md: PathBuf,
-    /// Where kimpact-bench writes its run (default: kimpact-ladder-bench
-    /// beside the executables).
-    #[arg(long)]
-    bench_out: Option<PathBuf>,
 }
 
 /// Why the ladder was not drawn. Nothing is written when one of these is
@@ -98,100 +78,12 @@ pub enum LadderError {
         /// What is wrong, and where.
         message: String,
     },
-    /// A program the ladder runs could not start, or failed.
-    #[error("{program}: {message}")]
-    Run {
-        /// The program.
-        program: String,
-        /// What happened.
-        message: String,
-    },
     /// plotters refused to draw.
     #[error("plot: {0}")]
     Plot(String),
     /// An output could not be written.
     #[error(transparent)]
     Write(#[from] WriteError),
-}
-
-/// kimpact-bench's arguments of the published run (`docs/benchmarks.md`,
-/// *Regenerate*): the memory runs after 600 steps, in the steady state.
-pub const BENCH_ARGS: [&str; 4] = ["--balls", "1000", "--memory-warmup", "600"];
-
-/// The name kimpact-accuracy gives its summary.
-const SUMMARY_NAME: &str = "accuracy-summary.json";
-
-/// Run `program` with `args`, its output passed through.
-fn run(name: &str, program: &Path, args: &[OsString]) -> Result<(), LadderError> {
-    let error = |message| LadderError::Run {
-        program: name.to_owned(),
-        message,
-    };
-    let shown: Vec<_> = args.iter().map(|a| a.to_string_lossy()).collect();
-    eprintln!(
-        "kimpact-ladder: running {} {}",
-        program.display(),
-        shown.join(" ")
-    );
-    let status = Command::new(program).args(args).status().map_err(|e| {
-        error(format!(
-            "cannot start {}: {e} (build it with `cargo build --release -p kimpact-bench`, or draw from the existing files with --plot-only)",
-            program.display()
-        ))
-    })?;
-    match status.success() {
-        true => Ok(()),
-        false => Err(error(format!("failed ({status}); nothing was drawn"))),
-    }
-}
-
-/// Run the bench and the study, then put the bench's results in place.
-fn regenerate(args: &Args) -> Result<(), LadderError> {
-    if args.accuracy_json.file_name() != Some(SUMMARY_NAME.as_ref()) {
-        return Err(LadderError::Run {
-            program: "kimpact-accuracy".to_owned(),
-            message: format!(
-                "it writes {SUMMARY_NAME} into the folder of --accuracy-json, not {}: name that file, or draw with --plot-only",
-                args.accuracy_json.display()
-            ),
-        });
-    }
-    // `cargo run` builds this program only: build its siblings too.
-    if let Some(cargo) = std::env::var_os("CARGO") {
-        let build = ["build", "--release", "-p", "kimpact-bench", "--bins"].map(OsString::from);
-        run("cargo build", Path::new(&cargo), &build)?;
-    }
-    let exe = std::env::current_exe().map_err(|e| LadderError::Run {
-        program: "kimpact-ladder".to_owned(),
-        message: format!("cannot find its own executable: {e}"),
-    })?;
-    let dir = exe.parent().unwrap_or(Path::new("."));
-    let sibling = |name: &str| dir.join(format!("{name}{}", std::env::consts::EXE_SUFFIX));
-    // Relative to the working folder when inside it: the bench records its
-    // command line in results.md, which the docs quote.
-    let scratch = args.bench_out.clone().unwrap_or_else(|| {
-        let scratch = dir.join("kimpact-ladder-bench");
-        std::env::current_dir()
-            .ok()
-            .and_then(|cwd| scratch.strip_prefix(cwd).ok().map(Path::to_path_buf))
-            .unwrap_or(scratch)
-    });
-    let mut bench: Vec<OsString> = BENCH_ARGS.map(OsString::from).into();
-    bench.extend(["--out".into(), scratch.clone().into()]);
-    run("kimpact-bench", &sibling("kimpact-bench"), &bench)?;
-    let folder = match args.accuracy_json.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    let mut accuracy: Vec<OsString> = vec!["--out".into(), folder.into()];
-    if args.quick {
-        accuracy.push("--quick".into());
-    }
-    run("kimpact-accuracy", &sibling("kimpact-accuracy"), &accuracy)?;
-    let csv = read(&scratch.join("results.csv"))?;
-    let md = read(&scratch.join("results.md"))?;
-    let md_path = args.bench_csv.with_extension("md");
-    Ok(write_files(&[(&args.bench_csv, &csv), (&md_path, &md)])?)
 }
 
 /// The bytes of `path`.
@@ -253,9 +145,6 @@ fn command() -> String {
 }
 
 fn run_ladder(args: &Args) -> Result<String, LadderError> {
-    if !args.plot_only {
-        regenerate(args)?;
-    }
     let rows = read_bench(&args.bench_csv)?;
     let summary = read_summary(&args.accuracy_json)?;
     let files = join::Files {

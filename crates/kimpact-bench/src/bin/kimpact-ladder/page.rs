@@ -77,7 +77,7 @@ pub fn markdown(join: &Join, s: &Sources<'_>) -> String {
         let _ = writeln!(
             md,
             "| {} | {} | {} | {:.3} | {:.2e} | {floor} | {drawn} |",
-            p.scene.label, p.quantity.label, p.mode, p.ratio, p.error,
+            p.scene.label, p.quantity, p.mode, p.ratio, p.error,
         );
     }
     if !join.skipped.is_empty() || !join.absent.is_empty() {
@@ -101,14 +101,12 @@ pub fn markdown(join: &Join, s: &Sources<'_>) -> String {
             sc.bench, sc.accuracy, sc.dimension, sc.label
         );
     }
-    let quantities: Vec<String> = QUANTITIES.iter().map(|q| format!("`{}`", q.name)).collect();
+    let quantities: Vec<String> = QUANTITIES.iter().map(|q| format!("`{}`", q.0)).collect();
     let _ = writeln!(
         md,
-        "- both in {}; the bench's rows of {} balls, rapier's `parallel` feature {}; the accuracy errors at dt_div {} (rapier's own time step); the quantities {};\n- both are elastic gases of balls in a closed box, the same kind of scene but not the same balls;\n- every mode either side has for a scene must be on both sides; a ×native, error or noise floor that is not a number leaves its point out (under *Left out*).",
+        "- both in {}; the bench's rows of {} balls, rapier's `parallel` feature off; the accuracy errors at dt_div 1 (rapier's own time step); the quantities {};\n- both are elastic gases of balls in a closed box, the same kind of scene but not the same balls;\n- every mode either side has for a scene must be on both sides; a ×native, error or noise floor that is not a number leaves its point out (under *Left out*).",
         join::PRECISION,
         join::BALLS,
-        if join::PARALLEL { "on" } else { "off" },
-        join::DT_DIV,
         quantities.join(" and "),
     );
     md

@@ -2,10 +2,9 @@
 //! the error against ×native on log axes, one point per (scene, mode)
 //! coloured by mode ([`kimpact_harness::color`], as every plot of this
 //! package), the modes of a scene joined in ladder order by a grey line
-//! (one dash style per scene) labelled with the scene at its last mode,
-//! each noise floor as a dotted line. The legend is a strip under the
-//! title, outside the panels. Every point is a `<circle>` of the SVG, and
-//! nothing else is.
+//! (one dash style per scene) labelled with the scene, each noise floor a
+//! dotted line. The legend is a strip under the title, outside the panels.
+//! Every point is a `<circle>` of the SVG, and nothing else is.
 
 use kimpact::Mode;
 use kimpact_harness::{Method, color};
@@ -17,16 +16,13 @@ use crate::join::{self, Join, Level, Point, QUANTITIES, SCENES, SceneRule};
 
 /// One panel's size in pixels.
 const PANEL: (u32, u32) = (560, 440);
-/// The title and the legend above the panels (one row of legend; a second
-/// row adds [`ROW`]).
+/// The title and one row of legend above the panels.
 const HEADER: u32 = 80;
-/// A row of the legend.
+/// A second row of legend.
 const ROW: u32 = 22;
-/// The lines' and the noise floors' greys.
+/// The scenes' lines and the noise floors.
 const GREY: RGBColor = RGBColor(100, 100, 100);
 const FLOOR: RGBColor = RGBColor(150, 150, 150);
-/// The dashes of each scene's line (`None`: solid) and of a noise floor.
-const DASHES: [Option<(i32, i32)>; 2] = [None, Some((7, 4))];
 const FLOOR_DASH: (i32, i32) = (2, 3);
 
 type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
@@ -35,13 +31,12 @@ fn plot_error<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>) ->
     LadderError::Plot(e.to_string())
 }
 
-/// The dashes of a scene's line.
+/// The dashes of a scene's line (`None`: solid).
 fn dash_of(scene: &SceneRule) -> Option<(i32, i32)> {
-    let i = SCENES.iter().position(|s| s == scene).unwrap_or(0);
-    DASHES[i % DASHES.len()]
+    (SCENES.iter().position(|s| s == scene) != Some(0)).then_some((7, 4))
 }
 
-/// The drawn value of an error whose axis starts at `bottom`.
+/// The drawn value of a point's error whose axis starts at `bottom`.
 fn drawn(p: &Point, bottom: f64) -> f64 {
     match p.level() {
         Level::Measured(v) | Level::AtFloor(v) => v,
@@ -56,9 +51,10 @@ fn y_range(values: impl Iterator<Item = f64>, zero: bool) -> (f64, f64) {
     let (lo, hi) = values
         .map(f64::log10)
         .fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v), b.max(v)));
-    let (lo, hi) = match lo <= hi {
-        true => (lo.floor(), hi.ceil().max(lo.floor() + 1.0)),
-        false => (-3.0, 0.0),
+    let (lo, hi) = if lo <= hi {
+        (lo.floor(), hi.ceil().max(lo.floor() + 1.0))
+    } else {
+        (-3.0, 0.0)
     };
     let lo = if zero { lo - 1.0 } else { lo };
     let pad = 0.04 * (hi - lo);
@@ -80,8 +76,8 @@ fn ticks(lo: f64, hi: f64) -> (Vec<f64>, usize) {
     }
     let raw = (hi - lo) / 8.0;
     let magnitude = 10f64.powf(raw.log10().floor());
-    let step = [1.0, 2.0, 5.0, 10.0]
-        .map(|m| m * magnitude)
+    let steps = [1.0, 2.0, 5.0, 10.0].map(|m| m * magnitude);
+    let step = steps
         .into_iter()
         .find(|s| *s >= raw)
         .unwrap_or(10.0 * magnitude);
@@ -89,62 +85,57 @@ fn ticks(lo: f64, hi: f64) -> (Vec<f64>, usize) {
     (range.map(|i| i as f64 * step).collect(), decimals(step))
 }
 
-/// A legend entry's marker.
-enum Key {
-    /// A square of the colour, filled or hollow.
-    Square(RGBColor, bool),
-    /// A line of the colour, solid or dashed.
-    Line(RGBColor, Option<(i32, i32)>),
-}
+/// A legend entry: a square (filled or hollow) or a line (solid or dashed)
+/// of a colour, and its text.
+type Entry = (RGBColor, Result<bool, Option<(i32, i32)>>, &'static str);
 
 /// The legend: the modes, the scenes' lines and the noise floors (first
 /// row), the hollow points (second row).
-fn legend(join: &Join) -> [Vec<(Key, &'static str)>; 2] {
-    let modes = Mode::ALL.into_iter();
-    let mut first: Vec<_> = modes
-        .filter(|m| join.points.iter().any(|p| p.mode == *m))
-        .map(|m| (Key::Square(color(Method::Rapier(m)), true), m.name()))
+fn legend(join: &Join) -> [Vec<Entry>; 2] {
+    let has = |f: &dyn Fn(&Point) -> bool| join.points.iter().any(f);
+    let mut first: Vec<Entry> = Mode::ALL
+        .into_iter()
+        .filter(|m| has(&|p| p.mode == *m))
+        .map(|m| (color(Method::Rapier(m)), Ok(true), m.name()))
         .collect();
-    for s in SCENES
-        .iter()
-        .filter(|s| join.points.iter().any(|p| p.scene == *s))
-    {
-        first.push((Key::Line(GREY, dash_of(s)), s.label));
+    for s in SCENES.iter().filter(|s| has(&|p| p.scene == *s)) {
+        first.push((GREY, Err(dash_of(s)), s.label));
     }
-    let levels: Vec<Level> = join.points.iter().map(Point::level).collect();
-    if join
-        .points
-        .iter()
-        .any(|p| p.noise_floor.is_some_and(|f| f > 0.0))
-    {
-        first.push((Key::Line(FLOOR, Some(FLOOR_DASH)), "noise floor"));
+    if has(&|p| p.noise_floor.is_some_and(|f| f > 0.0)) {
+        first.push((FLOOR, Err(Some(FLOOR_DASH)), "noise floor"));
     }
+    let grey = RGBColor(80, 80, 80);
     let mut second = Vec::new();
-    let grey = Key::Square(RGBColor(80, 80, 80), false);
-    if levels.iter().any(|l| matches!(l, Level::AtFloor(_))) {
+    if has(&|p| matches!(p.level(), Level::AtFloor(_))) {
         second.push((
             grey,
+            Ok(false),
             "hollow: at or below the noise floor, drawn at the floor",
         ));
     }
-    if levels.contains(&Level::Zero) {
-        let grey = Key::Square(RGBColor(80, 80, 80), false);
-        second.push((grey, "hollow at the bottom: an error of 0, no noise floor"));
+    if has(&|p| p.level() == Level::Zero) {
+        second.push((
+            grey,
+            Ok(false),
+            "hollow at the bottom: an error of 0, no noise floor",
+        ));
     }
     [first, second]
 }
 
 /// A line from `(x0, y)` to `(x1, y)`, solid or dashed.
-fn hline(area: &Area<'_>, (x0, x1, y): (i32, i32, i32), key: &Key) -> Result<(), LadderError> {
-    let Key::Line(c, dash) = key else {
-        return Ok(());
-    };
+fn hline(
+    area: &Area<'_>,
+    (x0, x1, y): (i32, i32, i32),
+    c: RGBColor,
+    dash: Option<(i32, i32)>,
+) -> Result<(), LadderError> {
     let (on, off) = dash.unwrap_or((x1 - x0, 0));
     let mut x = x0;
     while x < x1 {
         let end = (x + on).min(x1);
-        let segment = PathElement::new(vec![(x, y), (end, y)], c.stroke_width(2));
-        area.draw(&segment).map_err(plot_error)?;
+        area.draw(&PathElement::new(vec![(x, y), (end, y)], c.stroke_width(2)))
+            .map_err(plot_error)?;
         x = end + off;
     }
     Ok(())
@@ -157,63 +148,54 @@ fn header(area: &Area<'_>, join: &Join) -> Result<(), LadderError> {
         .filter(|s| join.points.iter().any(|p| p.scene == *s))
         .map(|s| s.label)
         .collect();
-    let lines = [
-        (
-            "What accuracy costs: error against × native rapier".to_owned(),
-            20.0,
-        ),
-        (
-            format!(
-                "{}, {}. × native: kimpact-bench, {} balls, CPU time per step. Error: kimpact-accuracy, against the exact reference at rapier's time step.",
-                scenes.join(" and "),
-                join::PRECISION,
-                join::BALLS,
-            ),
-            13.0,
-        ),
-    ];
-    let (w, _) = area.dim_in_pixel();
+    let subtitle = format!(
+        "{}, {}. × native: kimpact-bench, {} balls, CPU time per step. Error: kimpact-accuracy, against the exact reference at rapier's time step.",
+        scenes.join(" and "),
+        join::PRECISION,
+        join::BALLS,
+    );
+    let title = "What accuracy costs: error against × native rapier";
+    let w = area.dim_in_pixel().0 as i32;
     // sans-serif is about half as wide as it is tall
     let centre =
-        |text: &str, size: f64| (w as f64 - text.chars().count() as f64 * size * 0.5) / 2.0;
-    for ((text, size), y) in lines.iter().zip([8, 34]) {
-        let font = ("sans-serif", *size).into_font();
-        let font = if y == 8 {
-            font.style(FontStyle::Bold)
-        } else {
-            font
-        };
-        let at = (centre(text, *size).max(4.0) as i32, y);
-        area.draw(&Text::new(text.clone(), at, font))
-            .map_err(plot_error)?;
-    }
+        |text: &str, size: f64| (w - (text.chars().count() as f64 * size * 0.5) as i32) / 2;
+    let bold = ("sans-serif", 20).into_font().style(FontStyle::Bold);
+    area.draw(&Text::new(title, (centre(title, 20.0), 8), bold))
+        .map_err(plot_error)?;
+    let at = (centre(&subtitle, 13.0).max(4), 34);
+    area.draw(&Text::new(subtitle, at, ("sans-serif", 13)))
+        .map_err(plot_error)?;
     for (row, y) in legend(join).iter().zip([58, 58 + ROW as i32]) {
         // sans-serif at 14 px: about 6.4 px per character
-        let width = |key: &Key, t: &str| {
-            let marker = if matches!(key, Key::Line(..)) { 24 } else { 12 };
+        let width = |(_, key, text): &Entry| {
+            let marker = if key.is_ok() { 12 } else { 24 };
             (
                 marker,
-                marker + 6 + (t.chars().count() as f64 * 6.4) as i32 + 18,
+                marker + 24 + (text.chars().count() as f64 * 6.4) as i32,
             )
         };
-        let total: i32 = row.iter().map(|(k, t)| width(k, t).1).sum();
-        let mut x = ((w as i32 - total) / 2).max(4);
-        for (key, text) in row {
+        let mut x = ((w - row.iter().map(|e| width(e).1).sum::<i32>()) / 2).max(4);
+        for entry in row {
+            let (c, key, text) = *entry;
             match key {
-                Key::Square(c, filled) => {
-                    let style = if *filled {
+                Ok(filled) => {
+                    let style = if filled {
                         c.filled()
                     } else {
                         c.stroke_width(2)
                     };
-                    let square = Rectangle::new([(x, y), (x + 12, y + 12)], style);
-                    area.draw(&square).map_err(plot_error)?;
+                    area.draw(&Rectangle::new([(x, y), (x + 12, y + 12)], style))
+                        .map_err(plot_error)?;
                 }
-                Key::Line(..) => hline(area, (x, x + 24, y + 6), key)?,
+                Err(dash) => hline(area, (x, x + 24, y + 6), c, dash)?,
             }
-            let (marker, step) = width(key, text);
-            let label = Text::new(*text, (x + marker + 6, y - 1), ("sans-serif", 14));
-            area.draw(&label).map_err(plot_error)?;
+            let (marker, step) = width(entry);
+            area.draw(&Text::new(
+                text,
+                (x + marker + 6, y - 1),
+                ("sans-serif", 14),
+            ))
+            .map_err(plot_error)?;
             x += step;
         }
     }
@@ -237,15 +219,13 @@ fn panel(
         .filter_map(|p| p.noise_floor.filter(|f| *f > 0.0));
     let (y0, y1) = y_range(values.chain(floors), zero);
     let (xticks, decimals) = ticks(x0, x1);
+    let x = (x0..x1).log_scale().with_key_points(xticks);
     let mut chart = ChartBuilder::on(area)
         .caption(label, ("sans-serif", 16))
         .margin(10)
         .x_label_area_size(44)
         .y_label_area_size(58)
-        .build_cartesian_2d(
-            (x0..x1).log_scale().with_key_points(xticks),
-            (y0..y1).log_scale(),
-        )
+        .build_cartesian_2d(x, (y0..y1).log_scale())
         .map_err(plot_error)?;
     chart
         .configure_mesh()
@@ -253,9 +233,10 @@ fn panel(
         .bold_line_style(BLACK.mix(0.08))
         .x_label_formatter(&|x| {
             let s = format!("{x:.decimals$}");
-            match s.contains('.') {
-                true => s.trim_end_matches('0').trim_end_matches('.').to_owned(),
-                false => s,
+            if s.contains('.') {
+                s.trim_end_matches('0').trim_end_matches('.').to_owned()
+            } else {
+                s
             }
         })
         .y_label_formatter(&|y| format!("{y:.0e}"))
@@ -297,16 +278,16 @@ fn panel(
             EmptyElement::at((last.ratio, drawn(last, y0))) + Text::new(scene.label, (9, -6), font);
         chart.draw_series([name]).map_err(plot_error)?;
     }
-    chart
-        .draw_series(points.iter().map(|p| {
-            let c = color(Method::Rapier(p.mode));
-            let style = match p.level() {
-                Level::Measured(_) => c.filled(),
-                Level::AtFloor(_) | Level::Zero => c.stroke_width(2),
-            };
-            Circle::new((p.ratio, drawn(p, y0)), 5, style)
-        }))
-        .map_err(plot_error)?;
+    let circles = points.iter().map(|p| {
+        let c = color(Method::Rapier(p.mode));
+        let style = if matches!(p.level(), Level::Measured(_)) {
+            c.filled()
+        } else {
+            c.stroke_width(2)
+        };
+        Circle::new((p.ratio, drawn(p, y0)), 5, style)
+    });
+    chart.draw_series(circles).map_err(plot_error)?;
     Ok(())
 }
 
@@ -316,30 +297,28 @@ fn panel(
 /// # Errors
 /// plotters', as [`LadderError::Plot`].
 pub fn svg(join: &Join) -> Result<String, LadderError> {
-    let quantities: Vec<_> = QUANTITIES
+    let quantities: Vec<&str> = QUANTITIES
         .iter()
+        .map(|q| q.1)
         .filter(|q| join.points.iter().any(|p| p.quantity == *q))
         .collect();
     let n = quantities.len().max(1) as u32;
-    let (lo, hi) = join.points.iter().fold((f64::MAX, f64::MIN), |(a, b), p| {
-        (a.min(p.ratio), b.max(p.ratio))
-    });
+    let ratios = join.points.iter().map(|p| p.ratio.log10());
+    let (a, b) = ratios.fold((f64::MAX, f64::MIN), |(a, b), r| (a.min(r), b.max(r)));
     // A little room on the left, more on the right for the scenes' labels.
-    let (a, b) = (lo.log10(), hi.log10());
     let span = (b - a).max(0.05);
     let x = (10f64.powf(a - 0.08 * span), 10f64.powf(b + 0.3 * span));
-    let two_rows = !legend(join)[1].is_empty();
-    let top = HEADER + if two_rows { ROW } else { 0 };
+    let top = HEADER + if legend(join)[1].is_empty() { 0 } else { ROW };
     let mut out = String::new();
     {
-        let root = SVGBackend::with_string(&mut out, (PANEL.0 * n, top + PANEL.1));
-        let root = root.into_drawing_area();
+        let root =
+            SVGBackend::with_string(&mut out, (PANEL.0 * n, top + PANEL.1)).into_drawing_area();
         root.fill(&WHITE).map_err(plot_error)?;
         let (head, body) = root.split_vertically(top);
         header(&head, join)?;
         for (area, q) in body.split_evenly((1, n as usize)).iter().zip(&quantities) {
             let points: Vec<&Point> = join.points.iter().filter(|p| p.quantity == *q).collect();
-            panel(area, q.label, &points, x)?;
+            panel(area, q, &points, x)?;
         }
         root.present().map_err(plot_error)?;
     }
