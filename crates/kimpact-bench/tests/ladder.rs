@@ -272,7 +272,7 @@ fn draws_one_point_per_joined_scene_quantity_and_mode() {
         "3D gas",
         "exact",
         "noise floor",
-        "hollow: at or below the noise floor",
+        "Hollow: at or below the noise floor",
     ] {
         assert!(svg.contains(text), "no {text:?} in the SVG");
     }
@@ -371,7 +371,7 @@ fn a_missing_file_fails_naming_it() {
     assert!(!out.status.success());
     let e = stderr(&out);
     assert!(
-        e.contains(&format!("cannot read {}", f.json.display())),
+        e.contains(&format!("{}: cannot read", f.json.display())),
         "{e}"
     );
     f.assert_old_outputs();
@@ -394,7 +394,7 @@ fn an_unreadable_number_or_a_missing_mode_fails_naming_it() {
     let out = ladder(&f);
     assert!(!out.status.success());
     let e = stderr(&out);
-    let at = format!("{}, column `ratio`: ", f.csv.display());
+    let at = format!("{}: column `ratio`: ", f.csv.display());
     assert!(
         e.contains(&at) && e.contains(&format!("line: {line}")),
         "{e}"
@@ -432,7 +432,7 @@ fn an_entry_without_a_field_fails_naming_it() {
     assert!(!out.status.success());
     let e = stderr(&out);
     assert!(
-        e.contains(&format!("{}, errors[5]", f.json.display()))
+        e.contains(&format!("{}: errors[5]", f.json.display()))
             && e.contains("missing field `error`"),
         "{e}"
     );

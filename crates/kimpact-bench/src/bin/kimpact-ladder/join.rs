@@ -132,14 +132,6 @@ pub struct Files<'a> {
     pub accuracy: &'a Path,
 }
 
-/// A broken rule of the join, in `path`.
-fn broken(path: &Path, message: String) -> LadderError {
-    LadderError::Join {
-        path: path.to_owned(),
-        message,
-    }
-}
-
 /// Each item of `items` by its mode, with where it is (a line, an index);
 /// the same mode twice is an error naming both places.
 fn by_mode<'a, T>(
@@ -151,7 +143,7 @@ fn by_mode<'a, T>(
     for (at, item, mode) in items {
         if let Some((first, _)) = out.insert(mode, (at.clone(), item)) {
             let message = format!("{what} in mode {mode} twice, at {first} and {at}");
-            return Err(broken(path, message));
+            return Err(LadderError::new(path, message));
         }
     }
     Ok(out)
@@ -188,7 +180,7 @@ pub fn join(
                 "line {line}: {} has dim {}; it is joined to a {}D accuracy scene",
                 r.scene, r.dim, scene.dimension
             );
-            return Err(broken(files.bench, message));
+            return Err(LadderError::new(files.bench, message));
         }
         let rows = rows.map(|(line, r)| (format!("line {line}"), r, r.mode));
         let costs = by_mode(rows, &bench_key, files.bench)?;
@@ -225,11 +217,11 @@ pub fn join(
                     "no {mode} for {bench_key}, which {} has",
                     files.accuracy.display()
                 );
-                return Err(broken(files.bench, message));
+                return Err(LadderError::new(files.bench, message));
             }
             if let Some((_, key, _)) = errors.iter().find(|e| !e.2.contains_key(&mode)) {
                 let message = format!("no {mode} for {key}, which {} has", files.bench.display());
-                return Err(broken(files.accuracy, message));
+                return Err(LadderError::new(files.accuracy, message));
             }
         }
         for (label, _, entries) in &errors {
@@ -260,11 +252,11 @@ pub fn join(
                 }
                 if cost.ratio <= 0.0 {
                     let message = format!("{line}: ×native is {}, not above 0", cost.ratio);
-                    return Err(broken(files.bench, message));
+                    return Err(LadderError::new(files.bench, message));
                 }
                 if e.error < 0.0 || e.noise_floor.is_some_and(|f| f < 0.0) {
                     let message = format!("{index}: a negative error or noise floor");
-                    return Err(broken(files.accuracy, message));
+                    return Err(LadderError::new(files.accuracy, message));
                 }
                 let (ratio, error, noise_floor) = (cost.ratio, e.error, e.noise_floor);
                 let p = Point {
@@ -288,7 +280,7 @@ pub fn join(
             "nothing to draw: no scene of the join is in both this file and {}{skipped}",
             files.accuracy.display()
         );
-        return Err(broken(files.bench, message));
+        return Err(LadderError::new(files.bench, message));
     }
     Ok(out)
 }
