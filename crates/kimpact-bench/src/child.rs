@@ -41,29 +41,17 @@ pub struct Timing {
 pub struct Measure {
     /// Measured steps.
     pub steps: usize,
-    /// Wall time per step of each sample, µs.
-    pub wall_us: Vec<f64>,
     /// CPU time of the process (all threads) per step of each sample, µs.
     pub cpu_us: Vec<f64>,
     /// Heap allocations during the measured steps (all threads).
     pub allocs: u64,
-    /// Impacts the law resolved, steps that hit its cap, pairs skipped.
+    /// Impacts the law resolved.
     pub impacts: u64,
-    /// See `impacts`.
-    pub cap_hits: u64,
-    /// See `impacts`.
-    pub skipped: u64,
     /// Kinetic plus potential energy (from the floor) before and after the
     /// measured steps.
-    pub energy_start: f64,
-    /// See `energy_start`.
-    pub energy_end: f64,
-    /// Balls with a non-finite state, out of their region, awake at the end.
-    pub non_finite: usize,
-    /// See `non_finite`.
-    pub escaped: usize,
-    /// See `non_finite`.
-    pub awake_end: usize,
+    pub energy: (f64, f64),
+    /// Balls with a non-finite state, and out of their region, at the end.
+    pub lost: (usize, usize),
 }
 
 /// A timing child: native and one mode, in lockstep in one process.

@@ -4,8 +4,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::process::ExitCode;
 
-use kimpact_harness::{BenchRow, color, write_files};
-use plotters::prelude::*;
+use kimpact_harness::{BenchRow, Method, Panel, write_files};
 use serde::{Deserialize, Serialize};
 
 use crate::child::{Measure, Pair, Solo};
@@ -78,10 +77,9 @@ fn median(mut v: Vec<f64>) -> f64 {
     }
 }
 
-/// The CPU (or with `wall`, wall) times per step of `runs`, pooled.
-fn times<'a>(runs: impl IntoIterator<Item = &'a Measure>, wall: bool) -> Vec<f64> {
-    let pick = |m: &'a Measure| if wall { &m.wall_us } else { &m.cpu_us };
-    runs.into_iter().flat_map(pick).copied().collect()
+/// The median of the CPU times per step of `runs`, pooled.
+fn median_of<'a>(runs: impl IntoIterator<Item = &'a Measure>) -> f64 {
+    median(runs.into_iter().flat_map(|m| &m.cpu_us).copied().collect())
 }
 
 /// The sum of `f` over `runs` per measured step.
@@ -121,11 +119,11 @@ pub fn rows(g: &Group) -> Vec<BenchRow> {
                 let e = solo(mode)?.as_ref().err()?;
                 Some(format!("memory run: {e}"))
             });
-            let median_us = median(times(law.iter().copied(), false));
-            let native_median_us = median(times(native.iter().copied(), false));
+            let median_us = median_of(law.iter().copied());
+            let native_median_us = median_of(native.iter().copied());
             let rounds: Vec<f64> = mine
                 .iter()
-                .map(|p| median(times([&p.law], false)) / median(times([&p.native], false)))
+                .map(|p| median_of([&p.law]) / median_of([&p.native]))
                 .collect();
             let allocs_per_step = per_step(&law, |m| m.allocs);
             let share = match rss(mode).and_then(|s| s.attributed) {
@@ -136,7 +134,7 @@ pub fn rows(g: &Group) -> Vec<BenchRow> {
             // The largest relative change in magnitude over the rounds.
             let energy = law
                 .iter()
-                .map(|m| (m.energy_end - m.energy_start) / m.energy_start.abs())
+                .map(|m| (m.energy.1 - m.energy.0) / m.energy.0.abs())
                 .fold(0.0_f64, |a, x| {
                     if x.is_nan() || x.abs() > a.abs() {
                         x
@@ -154,7 +152,6 @@ pub fn rows(g: &Group) -> Vec<BenchRow> {
                 rounds: law.len(),
                 samples: law.iter().map(|m| m.cpu_us.len()).sum(),
                 median_us,
-                wall_median_us: median(times(law.iter().copied(), true)),
                 native_median_us,
                 ratio: median_us / native_median_us,
                 ratio_min: rounds.iter().copied().fold(f64::NAN, f64::min),
@@ -167,11 +164,8 @@ pub fn rows(g: &Group) -> Vec<BenchRow> {
                 peak_rss_mib: rss(mode).map_or(f64::NAN, |s| s.peak_rss_kib as f64 / 1024.0),
                 impacts_per_step: per_step(&law, |m| m.impacts),
                 energy_rel_change: energy,
-                non_finite: law.iter().map(|m| m.non_finite).max().unwrap_or(0),
-                escaped: law.iter().map(|m| m.escaped).max().unwrap_or(0),
-                cap_hits: law.iter().map(|m| m.cap_hits).sum(),
-                skipped: law.iter().map(|m| m.skipped).sum(),
-                awake_end: law.first().map_or(0, |m| m.awake_end),
+                non_finite: law.iter().map(|m| m.lost.0).max().unwrap_or(0),
+                escaped: law.iter().map(|m| m.lost.1).max().unwrap_or(0),
                 error,
             }
         })
@@ -242,27 +236,17 @@ pub fn markdown(h: &Header, rows: &[BenchRow]) -> String {
         "- small scenes (billiards, restitution3, restitution2, pinball): blocks of {} steps, each timed whole (its time over its steps is one sample), over {} episodes per timing run (both worlds built anew, warmed up and measured each time)",
         h.small_block, h.small_repeats
     );
-    s += "- time/step: median CPU time of one step (process, all threads; the CSV also has wall time; native's row: over all its timing runs); native, same runs: native's median in this mode's timing runs; ×native: the ratio of the two (with --rounds > 1, in parentheses: the lowest and highest timing run's ratio; after the semicolon, the median of the runs' ratios); Δ/step: the mode's median minus native's; allocs/step: heap allocations per measured step, all threads (in parentheses: kimpact's own, the share of the memory run's allocations whose stacks lead to kimpact's code, times the total); peak RSS: VmHWM of a process running that mode alone; impacts/step: resolved by the law; ΔE/E: energy change (kinetic + potential from the floor) over the measured steps\n\n";
+    s += "- time/step: median CPU time of one step (process, all threads; native's row: over all its timing runs); native, same runs: native's median in this mode's timing runs; ×native: the ratio of the two (with --rounds > 1, in parentheses: the lowest and highest timing run's ratio; after the semicolon, the median of the runs' ratios); Δ/step: the mode's median minus native's; allocs/step: heap allocations per measured step, all threads (in parentheses: kimpact's own, the share of the memory run's allocations whose stacks lead to kimpact's code, times the total); peak RSS: VmHWM of a process running that mode alone; impacts/step: resolved by the law; ΔE/E: energy change (kinetic + potential from the floor) over the measured steps\n\n";
     s += "| scene | prec | balls | mode | time/step | native, same runs | ×native | Δ/step | allocs/step (kimpact's) | peak RSS | impacts/step | ΔE/E | notes |\n";
     s += "|---|---|---:|---|---:|---:|---|---:|---:|---:|---:|---:|---|\n";
     for r in rows {
-        let counts = [
-            (r.non_finite as u64, "non-finite"),
-            (r.escaped as u64, "escaped"),
-            (r.cap_hits, "event-cap hits"),
-            (r.skipped, "skipped pairs"),
-        ];
-        let notes: Vec<String> = r
-            .error
-            .iter()
-            .cloned()
-            .chain(
-                counts
-                    .iter()
-                    .filter(|c| c.0 > 0)
-                    .map(|(n, what)| format!("{n} {what}")),
-            )
-            .collect();
+        let mut notes: Vec<String> = r.error.iter().cloned().collect();
+        if r.non_finite + r.escaped > 0 {
+            notes.push(format!(
+                "{} non-finite, {} escaped",
+                r.non_finite, r.escaped
+            ));
+        }
         let native = r.mode == Mode::Native;
         let ratio = match (native, r.rounds > 1) {
             (true, _) => "1".to_owned(),
@@ -308,78 +292,29 @@ pub fn markdown(h: &Header, rows: &[BenchRow]) -> String {
 }
 
 /// Time per step against balls, one line per mode (log-log), of the rows
-/// of one scene and precision; `None` when fewer than two sizes were
-/// measured.
-fn scaling_svg(rows: &[&BenchRow]) -> Result<Option<String>, String> {
-    let rows: Vec<&BenchRow> = rows.iter().copied().filter(|r| r.median_us > 0.0).collect();
+/// of one scene and precision, when they hold several sizes.
+fn scaling_svg(rows: &[&BenchRow]) -> Option<Result<String, String>> {
     let sizes = crate::set(rows.iter().map(|r| r.balls));
-    let (Some(&first), Some(&last)) = (sizes.first(), sizes.last()) else {
-        return Ok(None);
+    let series = Mode::ALL.map(|m| {
+        let mine = rows.iter().filter(|r| r.mode == m);
+        (
+            Method::Rapier(m),
+            mine.map(|r| (r.balls as f64, r.median_us / 1000.0))
+                .collect(),
+        )
+    });
+    let r = rows.first()?;
+    let parallel = if r.parallel { ", parallel" } else { "" };
+    let panel = Panel {
+        title: format!("{} ({}{parallel}): time per step", r.scene, r.precision),
+        x_label: "balls".to_owned(),
+        y_label: "median time per step (ms)".to_owned(),
+        log_x: true,
+        dots: true,
+        legend: plotters::chart::SeriesLabelPosition::UpperLeft,
+        series: series.into(),
     };
-    if sizes.len() < 2 {
-        return Ok(None);
-    }
-    let ms = |r: &BenchRow| r.median_us / 1000.0;
-    let y0 = rows.iter().map(|r| ms(r)).fold(f64::INFINITY, f64::min) / 1.5;
-    let y1 = rows.iter().map(|r| ms(r)).fold(0.0, f64::max) * 1.5;
-    let err = |e: DrawingAreaErrorKind<_>| e.to_string();
-    let mut out = String::new();
-    {
-        let root = SVGBackend::with_string(&mut out, (800, 500)).into_drawing_area();
-        root.fill(&WHITE).map_err(err)?;
-        let r = rows[0];
-        let parallel = if r.parallel { ", parallel" } else { "" };
-        let title = format!("{} ({}{parallel}): time per step", r.scene, r.precision);
-        let (x0, x1) = (first as f64 / 1.3, last as f64 * 1.3);
-        let mut chart = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", 22))
-            .margin(12)
-            .x_label_area_size(45)
-            .y_label_area_size(70)
-            .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
-            .map_err(err)?;
-        chart
-            .configure_mesh()
-            .light_line_style(WHITE.mix(0.0))
-            .x_label_formatter(&|x| format!("{x:.0}"))
-            .y_label_formatter(&|y| {
-                format!("{y:.3}")
-                    .trim_end_matches('0')
-                    .trim_end_matches('.')
-                    .to_owned()
-            })
-            .x_desc("balls")
-            .y_desc("median time per step (ms)")
-            .draw()
-            .map_err(err)?;
-        for mode in Mode::ALL {
-            let mut pts: Vec<(f64, f64)> = rows
-                .iter()
-                .filter(|r| r.mode == mode)
-                .map(|r| (r.balls as f64, ms(r)))
-                .collect();
-            pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-            let c = color(kimpact_harness::Method::Rapier(mode));
-            chart
-                .draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))
-                .map_err(err)?
-                .label(mode.name())
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
-                });
-            let dots = pts.into_iter().map(|p| Circle::new(p, 3, c.filled()));
-            chart.draw_series(dots).map_err(err)?;
-        }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperLeft)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .draw()
-            .map_err(err)?;
-        root.present().map_err(err)?;
-    }
-    Ok(Some(out))
+    (sizes.len() > 1).then(|| kimpact_harness::svg(&[panel], 1, (800, 500)))
 }
 
 /// Print the table of `raw` and write `results.md`, `results.csv` and the
@@ -411,12 +346,12 @@ pub fn render(dir: &Path, raw: &Raw) -> ExitCode {
             .filter(|r| (&r.scene, r.precision) == key)
             .collect();
         match scaling_svg(&mine) {
-            Ok(Some(svg)) => {
-                let name = format!("scaling-{}-{}.svg", key.0, key.1);
-                files.push((dir.join(name), svg.into_bytes()));
-            }
-            Ok(None) => {}
-            Err(e) => eprintln!("plot of {} {}: {e}", key.0, key.1),
+            Some(Ok(svg)) => files.push((
+                dir.join(format!("scaling-{}-{}.svg", key.0, key.1)),
+                svg.into(),
+            )),
+            Some(Err(e)) => eprintln!("plot of {} {}: {e}", key.0, key.1),
+            None => {}
         }
     }
     let files: Vec<(&Path, &[u8])> = files

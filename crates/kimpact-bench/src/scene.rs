@@ -3,8 +3,6 @@
 // Native and the law modes run through exactly this code; only the `Mode`
 // given to `Kimpact::new` differs.
 
-use std::time::Instant;
-
 use k::math::{DIM, Real, Vector};
 use k::rapier::math::AngVector;
 use k::rapier::prelude::*;
@@ -346,49 +344,32 @@ impl Bench {
             })
             .count()
     }
-
-    /// Awake dynamic bodies.
-    pub fn awake(&self) -> usize {
-        self.world
-            .islands
-            .active_bodies()
-            .filter(|&h| self.world.bodies.get(h).is_some_and(|b| b.is_dynamic()))
-            .count()
-    }
 }
 
-/// Time, CPU time and allocations of `n` measured steps, appended to `m`:
+/// CPU time and allocations of `n` measured steps, appended to `m`:
 /// one sample per step, or with `whole` one sample for the block (its time
 /// over `n`), so that a step of a few microseconds is not lost in the
 /// clock's own cost.
 fn measured_block(bench: &mut Bench, n: usize, whole: bool, m: &mut Measure) {
     let per_sample = if whole { n } else { 1 };
     for _ in 0..n / per_sample {
-        let count = alloc::count();
-        let (t, c) = (Instant::now(), memory::process_cpu_us());
+        let (count, cpu) = (alloc::count(), memory::process_cpu_us());
         for _ in 0..per_sample {
             bench.step();
         }
-        let cpu = memory::process_cpu_us() - c;
-        let wall = t.elapsed().as_secs_f64() * 1e6;
+        let cpu = memory::process_cpu_us() - cpu;
         m.allocs += alloc::count() - count;
-        m.wall_us.push(wall / per_sample as f64);
         m.cpu_us.push(cpu / per_sample as f64);
     }
 }
 
-/// Add what `steps` measured steps did to the scene, from the stats and
-/// the energy before them.
-fn finish_episode(bench: &Bench, m: &mut Measure, before: k::Stats, steps: usize) {
-    let now = bench.kimpact.stats();
+/// Add what `steps` measured steps did to the scene, from the impacts
+/// before them.
+fn finish_episode(bench: &Bench, m: &mut Measure, before: u64, steps: usize) {
     m.steps += steps;
-    m.impacts += now.impacts - before.impacts;
-    m.cap_hits += now.event_cap_hits - before.event_cap_hits;
-    m.skipped += now.skipped_non_finite - before.skipped_non_finite;
-    m.energy_end = bench.energy();
-    m.non_finite = m.non_finite.max(bench.non_finite());
-    m.escaped = m.escaped.max(bench.escaped());
-    m.awake_end = bench.awake();
+    m.impacts += bench.kimpact.stats().impacts - before;
+    m.energy.1 = bench.energy();
+    m.lost = (m.lost.0.max(bench.non_finite()), m.lost.1.max(bench.escaped()));
 }
 
 /// Timing: native rapier and the mode on two copies of what `setup` builds,
@@ -411,9 +392,9 @@ pub fn run_pair(setup: Setup, timing: Timing) -> Option<Pair> {
         let mut before = Vec::new();
         for (w, m) in &mut worlds {
             if episode == 0 {
-                m.energy_start = w.energy();
+                m.energy.0 = w.energy();
             }
-            before.push(w.kimpact.stats());
+            before.push(w.kimpact.stats().impacts);
         }
         let mut done = 0;
         while done < timing.steps {

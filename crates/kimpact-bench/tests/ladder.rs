@@ -48,7 +48,6 @@ fn row(
         rounds: 1,
         samples: 200,
         median_us: 300.5 * ratio,
-        wall_median_us: 301.0 * ratio,
         native_median_us: 300.5,
         ratio,
         ratio_min: ratio,
@@ -63,9 +62,6 @@ fn row(
         energy_rel_change: 1e-7,
         non_finite: 0,
         escaped: 0,
-        cap_hits: 0,
-        skipped: 0,
-        awake_end: balls,
         error: None,
     }
 }

@@ -21,7 +21,7 @@ mod error;
 mod files;
 mod measure;
 mod method;
-mod palette;
+mod plot;
 mod records;
 mod scenes;
 mod sim;
@@ -31,7 +31,7 @@ pub use error::HarnessError;
 pub use files::{WriteError, write_file, write_files};
 pub use measure::{GasSeries, ShortResult, gas_series, kinetic, momentum, short_run};
 pub use method::Method;
-pub use palette::color;
+pub use plot::{Panel, color, svg};
 pub use records::{AccuracySummary, BenchRow, CostRow, ErrorRow};
 pub use scenes::{
     DT, R, Rng, Setup, Velocities, ball_volume, cradle_setup, gas_setup, lattice, two_ball_setup,

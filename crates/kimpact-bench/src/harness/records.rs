@@ -27,8 +27,6 @@ pub struct BenchRow {
     pub samples: usize,
     /// Median CPU time per step.
     pub median_us: f64,
-    /// Median wall time per step.
-    pub wall_median_us: f64,
     /// Native's median CPU time per step in the same processes.
     pub native_median_us: f64,
     /// ×native: `median_us / native_median_us` (NaN when not measured).
@@ -59,12 +57,6 @@ pub struct BenchRow {
     pub non_finite: usize,
     /// Balls out of the scene's region at the end.
     pub escaped: usize,
-    /// Steps that hit the law's cap on impacts per step.
-    pub cap_hits: u64,
-    /// Pairs the law skipped for non-finite data.
-    pub skipped: u64,
-    /// Awake dynamic bodies at the end.
-    pub awake_end: usize,
     /// Why a run of the row failed, if one did.
     pub error: Option<String>,
 }

@@ -197,7 +197,8 @@ fn run(args: &Args) -> Result<(), RunError> {
     let (points, notes) = (all.points, all.notes);
     let (errors, costs) = (all.errors, all.costs);
 
-    let svg = plot::svg(&plot::panels(&points, sizes.gas_n), 3).map_err(RunError::Plot)?;
+    let svg = kimpact_harness::svg(&plot::panels(&points, sizes.gas_n), 3, (460, 320))
+        .map_err(RunError::Plot)?;
     let summary = AccuracySummary {
         command: report::command(args.quick),
         quick: args.quick,
