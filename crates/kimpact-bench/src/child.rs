@@ -47,11 +47,6 @@ pub struct Measure {
     pub allocs: u64,
     /// Impacts the law resolved.
     pub impacts: u64,
-    /// Kinetic plus potential energy (from the floor) before and after the
-    /// measured steps.
-    pub energy: (f64, f64),
-    /// Balls with a non-finite state, and out of their region, at the end.
-    pub lost: (usize, usize),
 }
 
 /// A timing child: native and one mode, in lockstep in one process.

@@ -131,17 +131,6 @@ pub fn rows(g: &Group) -> Vec<BenchRow> {
                 Some(_) => 0.0,
                 None => f64::NAN,
             };
-            // The largest relative change in magnitude over the rounds.
-            let energy = law
-                .iter()
-                .map(|m| (m.energy.1 - m.energy.0) / m.energy.0.abs())
-                .fold(0.0_f64, |a, x| {
-                    if x.is_nan() || x.abs() > a.abs() {
-                        x
-                    } else {
-                        a
-                    }
-                });
             BenchRow {
                 scene: g.scene.name().to_owned(),
                 dim: g.scene.dim(),
@@ -163,9 +152,6 @@ pub fn rows(g: &Group) -> Vec<BenchRow> {
                 kimpact_allocs_per_step: share * allocs_per_step,
                 peak_rss_mib: rss(mode).map_or(f64::NAN, |s| s.peak_rss_kib as f64 / 1024.0),
                 impacts_per_step: per_step(&law, |m| m.impacts),
-                energy_rel_change: energy,
-                non_finite: law.iter().map(|m| m.lost.0).max().unwrap_or(0),
-                escaped: law.iter().map(|m| m.lost.1).max().unwrap_or(0),
                 error,
             }
         })
@@ -182,35 +168,6 @@ fn fmt_us(us: f64) -> String {
         _ if us >= 10.0 => format!("{us:.1} µs"),
         _ => format!("{us:.2} µs"),
     }
-}
-
-/// The log-log slope of time per step against balls of each (scene,
-/// precision, mode), between its smallest and largest size, beside
-/// native's.
-fn slopes(rows: &[BenchRow]) -> Vec<(&BenchRow, f64, f64)> {
-    let slope = |r: &BenchRow, mode: Mode| -> Option<f64> {
-        let mut pts: Vec<&BenchRow> = rows
-            .iter()
-            .filter(|s| (&s.scene, s.precision, s.mode) == (&r.scene, r.precision, mode))
-            .filter(|s| s.median_us.is_finite())
-            .collect();
-        pts.sort_by_key(|s| s.balls);
-        let (a, b) = (pts.first()?, pts.last()?);
-        let slope = (b.median_us / a.median_us).ln() / (b.balls as f64 / a.balls as f64).ln();
-        (b.balls > a.balls).then_some(slope)
-    };
-    let mut seen = Vec::new();
-    let mut out = Vec::new();
-    for r in rows {
-        let key = (&r.scene, r.precision, r.mode);
-        if !seen.contains(&key) {
-            seen.push(key);
-            if let (Some(s), Some(n)) = (slope(r, r.mode), slope(r, Mode::Native)) {
-                out.push((r, s, n));
-            }
-        }
-    }
-    out
 }
 
 /// The whole report as markdown.
@@ -236,17 +193,10 @@ pub fn markdown(h: &Header, rows: &[BenchRow]) -> String {
         "- small scenes (billiards, restitution3, restitution2, pinball): blocks of {} steps, each timed whole (its time over its steps is one sample), over {} episodes per timing run (both worlds built anew, warmed up and measured each time)",
         h.small_block, h.small_repeats
     );
-    s += "- time/step: median CPU time of one step (process, all threads; native's row: over all its timing runs); native, same runs: native's median in this mode's timing runs; ×native: the ratio of the two (with --rounds > 1, in parentheses: the lowest and highest timing run's ratio; after the semicolon, the median of the runs' ratios); Δ/step: the mode's median minus native's; allocs/step: heap allocations per measured step, all threads (in parentheses: kimpact's own, the share of the memory run's allocations whose stacks lead to kimpact's code, times the total); peak RSS: VmHWM of a process running that mode alone; impacts/step: resolved by the law; ΔE/E: energy change (kinetic + potential from the floor) over the measured steps\n\n";
-    s += "| scene | prec | balls | mode | time/step | native, same runs | ×native | Δ/step | allocs/step (kimpact's) | peak RSS | impacts/step | ΔE/E | notes |\n";
-    s += "|---|---|---:|---|---:|---:|---|---:|---:|---:|---:|---:|---|\n";
+    s += "- time/step: median CPU time of one step (process, all threads; native's row: over all its timing runs); native, same runs: native's median in this mode's timing runs; ×native: the ratio of the two (with --rounds > 1, in parentheses: the lowest and highest timing run's ratio; after the semicolon, the median of the runs' ratios); Δ/step: the mode's median minus native's; allocs/step: heap allocations per measured step, all threads (in parentheses: kimpact's own, the share of the memory run's allocations whose stacks lead to kimpact's code, times the total); peak RSS: VmHWM of a process running that mode alone; impacts/step: resolved by the law; notes: a failed run\n\n";
+    s += "| scene | prec | balls | mode | time/step | native, same runs | ×native | Δ/step | allocs/step (kimpact's) | peak RSS | impacts/step | notes |\n";
+    s += "|---|---|---:|---|---:|---:|---|---:|---:|---:|---:|---|\n";
     for r in rows {
-        let mut notes: Vec<String> = r.error.iter().cloned().collect();
-        if r.non_finite + r.escaped > 0 {
-            notes.push(format!(
-                "{} non-finite, {} escaped",
-                r.non_finite, r.escaped
-            ));
-        }
         let native = r.mode == Mode::Native;
         let ratio = match (native, r.rounds > 1) {
             (true, _) => "1".to_owned(),
@@ -266,7 +216,7 @@ pub fn markdown(h: &Header, rows: &[BenchRow]) -> String {
         };
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {} | {native_us} | {ratio} | {delta} | {:.1} ({own}) | {:.0} MiB | {:.2} | {:.1e} | {} |",
+            "| {} | {} | {} | {} | {} | {native_us} | {ratio} | {delta} | {:.1} ({own}) | {:.0} MiB | {:.2} | {} |",
             r.scene,
             r.precision,
             r.balls,
@@ -275,18 +225,8 @@ pub fn markdown(h: &Header, rows: &[BenchRow]) -> String {
             r.allocs_per_step,
             r.peak_rss_mib,
             r.impacts_per_step,
-            r.energy_rel_change,
-            notes.join("; ")
+            r.error.as_deref().unwrap_or_default()
         );
-    }
-    let slopes = slopes(rows);
-    if !slopes.is_empty() {
-        s += "\n### Scaling (log-log slope of time per step against balls)\n\n";
-        s += "| scene | prec | mode | slope | native's slope |\n|---|---|---|---:|---:|\n";
-        for (r, slope, native) in slopes {
-            let (scene, p, mode) = (&r.scene, r.precision, r.mode);
-            let _ = writeln!(s, "| {scene} | {p} | {mode} | {slope:.2} | {native:.2} |");
-        }
     }
     s
 }

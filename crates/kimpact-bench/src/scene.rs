@@ -61,13 +61,6 @@ pub struct Bench {
     world: PhysicsWorld,
     kimpact: Kimpact,
     balls: Vec<RigidBodyHandle>,
-    /// The region the balls stay in (a ball further than `slack` out of it
-    /// has escaped).
-    lo: Vector,
-    hi: Vector,
-    slack: Real,
-    /// The height potential energy is measured from.
-    floor: Real,
     /// Kinematic bodies driven by the scene before each step.
     drives: Vec<Drive>,
     /// Simulated time, for the drives.
@@ -97,10 +90,6 @@ impl Bench {
             world,
             kimpact: Kimpact::new(law, mode),
             balls: Vec::new(),
-            lo: Vector::ZERO,
-            hi: Vector::ZERO,
-            slack: 1.0,
-            floor: 0.0,
             drives: Vec::new(),
             time: 0.0,
         }
@@ -133,7 +122,6 @@ impl Bench {
     /// A closed box of inner half-extents `half` centred at the origin, made
     /// of fixed, unmarked walls (they meet the law as fixed partners).
     fn closed_box(&mut self, half: Vector, thickness: Real, material: Material) {
-        (self.lo, self.hi, self.floor) = (-half, half, -half[1]);
         let t = thickness;
         for axis in 0..DIM {
             for sign in [-1.0, 1.0] {
@@ -303,47 +291,6 @@ impl Bench {
         self.kimpact.step_world(&mut self.world, &(), &());
         self.time += self.world.integration_parameters.dt;
     }
-
-    /// Kinetic plus potential energy (from the floor), f64.
-    pub fn energy(&self) -> f64 {
-        let g = f64::from(self.world.gravity.length());
-        let floor = -f64::from(self.floor);
-        self.world
-            .bodies
-            .iter()
-            .filter(|(_, b)| b.is_dynamic())
-            .map(|(_, b)| {
-                let m = f64::from(b.mass());
-                let v2 = f64::from(b.linvel().length_squared());
-                0.5 * m * v2 + m * g * (f64::from(b.translation()[1]) + floor)
-            })
-            .sum()
-    }
-
-    /// Balls with a non-finite position or velocity.
-    pub fn non_finite(&self) -> usize {
-        self.balls
-            .iter()
-            .filter(|&&h| {
-                let b = &self.world.bodies[h];
-                !(b.translation().is_finite() && b.linvel().is_finite())
-            })
-            .count()
-    }
-
-    /// Balls outside the box (by more than a ball radius of slack).
-    pub fn escaped(&self) -> usize {
-        let slack = self.slack;
-        self.balls
-            .iter()
-            .filter(|&&h| {
-                let p = self.world.bodies[h].translation();
-                (0..DIM).any(|a| {
-                    p[a].is_nan() || p[a] < self.lo[a] - slack || p[a] > self.hi[a] + slack
-                })
-            })
-            .count()
-    }
 }
 
 /// CPU time and allocations of `n` measured steps, appended to `m`:
@@ -363,15 +310,6 @@ fn measured_block(bench: &mut Bench, n: usize, whole: bool, m: &mut Measure) {
     }
 }
 
-/// Add what `steps` measured steps did to the scene, from the impacts
-/// before them.
-fn finish_episode(bench: &Bench, m: &mut Measure, before: u64, steps: usize) {
-    m.steps += steps;
-    m.impacts += bench.kimpact.stats().impacts - before;
-    m.energy.1 = bench.energy();
-    m.lost = (m.lost.0.max(bench.non_finite()), m.lost.1.max(bench.escaped()));
-}
-
 /// Timing: native rapier and the mode on two copies of what `setup` builds,
 /// in this process, in lockstep: per episode, both built, warmed up, then
 /// `steps` measured steps each, alternated in blocks (native's block, then
@@ -380,7 +318,7 @@ pub fn run_pair(setup: Setup, timing: Timing) -> Option<Pair> {
     let (mut mn, mut ml) = (Measure::default(), Measure::default());
     let block = timing.block.max(1);
     let mut balls = 0;
-    for episode in 0..timing.repeats.max(1) {
+    for _ in 0..timing.repeats.max(1) {
         let native_setup = Setup {
             mode: Mode::Native,
             ..setup
@@ -389,13 +327,7 @@ pub fn run_pair(setup: Setup, timing: Timing) -> Option<Pair> {
         for _ in 0..timing.warmup {
             worlds.iter_mut().for_each(|(w, _)| w.step());
         }
-        let mut before = Vec::new();
-        for (w, m) in &mut worlds {
-            if episode == 0 {
-                m.energy.0 = w.energy();
-            }
-            before.push(w.kimpact.stats().impacts);
-        }
+        let before = worlds.each_ref().map(|(w, _)| w.kimpact.stats().impacts);
         let mut done = 0;
         while done < timing.steps {
             let n = block.min(timing.steps - done);
@@ -404,8 +336,9 @@ pub fn run_pair(setup: Setup, timing: Timing) -> Option<Pair> {
             }
             done += n;
         }
-        for ((w, m), stats) in worlds.iter_mut().zip(before) {
-            finish_episode(w, m, stats, timing.steps);
+        for ((w, m), before) in worlds.iter_mut().zip(before) {
+            m.steps += timing.steps;
+            m.impacts += w.kimpact.stats().impacts - before;
         }
         balls = worlds[1].0.balls.len();
     }

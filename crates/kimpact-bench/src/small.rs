@@ -47,13 +47,6 @@ impl Bench {
                 b.balls.push(h);
             }
         }
-        b.lo = xy(-ground_size, 0.0);
-        b.hi = xy(ground_size, 25.0);
-        for axis in (0..DIM).skip(2) {
-            (b.lo[axis], b.hi[axis]) = (-he[axis], he[axis]);
-        }
-        b.slack = rad;
-        b.floor = 0.0;
         b
     }
 
@@ -151,12 +144,6 @@ impl Bench {
                 .can_sleep(false);
             b.ball(body, 0.0135, 0.08, ball);
         }
-        (b.lo, b.hi) = (xy(-half_w, 0.0), xy(half_w, top));
-        for axis in (0..DIM).skip(2) {
-            (b.lo[axis], b.hi[axis]) = (-0.1, 0.1);
-        }
-        b.slack = 0.02;
-        b.floor = 0.0;
         b
     }
 }

@@ -59,9 +59,6 @@ fn row(
         kimpact_allocs_per_step: 0.0,
         peak_rss_mib: 12.0,
         impacts_per_step: 5.0,
-        energy_rel_change: 1e-7,
-        non_finite: 0,
-        escaped: 0,
         error: None,
     }
 }

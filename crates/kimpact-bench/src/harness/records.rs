@@ -50,13 +50,6 @@ pub struct BenchRow {
     pub peak_rss_mib: f64,
     /// Impacts the law resolved per measured step.
     pub impacts_per_step: f64,
-    /// Relative change of the energy (kinetic and potential from the
-    /// floor) over the measured steps, the largest over the rounds.
-    pub energy_rel_change: f64,
-    /// Balls with a non-finite position or velocity at the end.
-    pub non_finite: usize,
-    /// Balls out of the scene's region at the end.
-    pub escaped: usize,
     /// Why a run of the row failed, if one did.
     pub error: Option<String>,
 }
