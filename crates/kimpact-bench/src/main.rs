@@ -153,7 +153,7 @@ where
 
 /// The kimpact benchmark matrix: time per step against native rapier,
 /// memory and allocations, and scaling.
-#[derive(Parser, Debug)]
+#[derive(Parser, Debug, Clone, Serialize, Deserialize)]
 #[command(name = "kimpact-bench", version)]
 pub struct Cli {
     /// Scenes to run (comma-separated).
@@ -308,19 +308,14 @@ fn main() -> ExitCode {
         .chain(std::env::args().skip(1))
         .collect::<Vec<_>>()
         .join(" ");
+    let (machine, parallel) = (machine(), cfg!(feature = "parallel"));
+    let wall_s = started.elapsed().as_secs_f64();
     let header = report::Header {
         command,
-        machine: machine(),
-        parallel: cfg!(feature = "parallel"),
-        steps: cli.steps,
-        warmup: cli.warmup,
-        rounds: cli.rounds.max(1),
-        block: cli.block,
-        small_block: cli.small_block,
-        small_repeats: cli.small_repeats,
-        memory_steps: cli.memory_steps,
-        memory_warmup: cli.memory_warmup.unwrap_or(cli.warmup),
-        wall_s: started.elapsed().as_secs_f64(),
+        cli: cli.clone(),
+        machine,
+        parallel,
+        wall_s,
     };
     let raw = report::Raw { header, groups };
     let json = serde_json::to_string(&raw).expect("the results serialize");

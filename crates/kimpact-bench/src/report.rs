@@ -8,7 +8,7 @@ use kimpact_harness::{BenchRow, Method, Panel, write_files};
 use serde::{Deserialize, Serialize};
 
 use crate::child::{Measure, Pair, Solo};
-use crate::{Mode, Precision, Scene};
+use crate::{Cli, Mode, Precision, Scene};
 
 /// The runs of one scene, size and precision.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -30,29 +30,14 @@ pub struct Group {
 /// What the table's header says about the run.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Header {
-    /// The command line.
+    /// The command line, and its options.
     pub command: String,
+    /// See `command`.
+    pub cli: Cli,
     /// The machine.
     pub machine: String,
     /// Whether rapier's `parallel` feature was on.
     pub parallel: bool,
-    /// `--steps`, `--warmup`, `--rounds`, `--block`, `--small-block`,
-    /// `--small-repeats`, `--memory-steps` and the memory runs' warm-up.
-    pub steps: usize,
-    /// See `steps`.
-    pub warmup: usize,
-    /// See `steps`.
-    pub rounds: usize,
-    /// See `steps`.
-    pub block: usize,
-    /// See `steps`.
-    pub small_block: usize,
-    /// See `steps`.
-    pub small_repeats: usize,
-    /// See `steps`.
-    pub memory_steps: usize,
-    /// See `steps`.
-    pub memory_warmup: usize,
     /// Wall time of the whole run, s.
     pub wall_s: f64,
 }
@@ -172,6 +157,7 @@ fn fmt_us(us: f64) -> String {
 
 /// The whole report as markdown.
 pub fn markdown(h: &Header, rows: &[BenchRow]) -> String {
+    let c = &h.cli;
     let mut s = format!(
         "## kimpact-bench results\n\n- command: `{}`\n- machine: {}\n",
         h.command, h.machine
@@ -180,18 +166,18 @@ pub fn markdown(h: &Header, rows: &[BenchRow]) -> String {
         s,
         "- rapier `parallel`: {}; each timing run is one process stepping native rapier and one mode on two copies of the scene in lockstep: {} warm-up steps each, then {} measured steps each, alternated in blocks of {} (native, mode, native, mode…); {} timing run(s) per mode; peak RSS and the attribution of allocations from a separate process per mode running alone ({} steps after {} warm-up steps); wall time {:.0} s",
         if h.parallel { "on" } else { "off" },
-        h.warmup,
-        h.steps,
-        h.block,
-        h.rounds,
-        h.memory_steps,
-        h.memory_warmup,
+        c.warmup,
+        c.steps,
+        c.block,
+        c.rounds.max(1),
+        c.memory_steps,
+        c.memory_warmup.unwrap_or(c.warmup),
         h.wall_s
     );
     let _ = writeln!(
         s,
         "- small scenes (billiards, restitution3, restitution2, pinball): blocks of {} steps, each timed whole (its time over its steps is one sample), over {} episodes per timing run (both worlds built anew, warmed up and measured each time)",
-        h.small_block, h.small_repeats
+        c.small_block, c.small_repeats
     );
     s += "- time/step: median CPU time of one step (process, all threads; native's row: over all its timing runs); native, same runs: native's median in this mode's timing runs; ×native: the ratio of the two (with --rounds > 1, in parentheses: the lowest and highest timing run's ratio; after the semicolon, the median of the runs' ratios); Δ/step: the mode's median minus native's; allocs/step: heap allocations per measured step, all threads (in parentheses: kimpact's own, the share of the memory run's allocations whose stacks lead to kimpact's code, times the total); peak RSS: VmHWM of a process running that mode alone; impacts/step: resolved by the law; notes: a failed run\n\n";
     s += "| scene | prec | balls | mode | time/step | native, same runs | ×native | Δ/step | allocs/step (kimpact's) | peak RSS | impacts/step | notes |\n";

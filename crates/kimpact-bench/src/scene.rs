@@ -50,10 +50,14 @@ fn cuboid(he: Vector) -> ColliderBuilder {
     ColliderBuilder::new(SharedShape::new(k::rapier::parry::shape::Cuboid::new(he)))
 }
 
-#[derive(Copy, Clone)]
-struct Material {
-    friction: Real,
-    restitution: Real,
+/// A collider's friction and restitution.
+type Material = (Real, Real);
+
+/// A point of the xy plane (z = 0 in 3D).
+fn xy(x: Real, y: Real) -> Vector {
+    let mut p = Vector::ZERO;
+    (p[0], p[1]) = (x, y);
+    p
 }
 
 /// One scene, ready to step.
@@ -99,8 +103,8 @@ impl Bench {
     fn ball(&mut self, body: RigidBodyBuilder, radius: Real, mass: Real, material: Material) {
         let collider = ColliderBuilder::ball(radius)
             .mass(mass)
-            .friction(material.friction)
-            .restitution(material.restitution);
+            .friction(material.0)
+            .restitution(material.1);
         let collider = self.hooked_if_asked(collider);
         let (b, c) = self.world.insert(body, collider);
         let marked = self.kimpact.mark(&self.world.colliders, c);
@@ -133,8 +137,8 @@ impl Bench {
                     .world
                     .insert_body(RigidBodyBuilder::fixed().translation(center));
                 let collider = cuboid(he)
-                    .friction(material.friction)
-                    .restitution(material.restitution);
+                    .friction(material.0)
+                    .restitution(material.1);
                 self.world.insert_collider(collider, Some(b));
             }
         }
@@ -152,10 +156,7 @@ impl Bench {
             Scene::Pit2d | Scene::Pit3d => {
                 // Mixed masses dropped on a grid filling a closed box.
                 let mut b = Self::new(mode, 0.09, -Vector::Y * 9.81);
-                let material = Material {
-                    friction: 0.3,
-                    restitution: 0.5,
-                };
+                let material = (0.3, 0.5);
                 let (r, spacing) = (0.25, 0.8);
                 let side = per_side(balls);
                 b.closed_box(Vector::splat(0.5 * spacing * side as Real), 0.5, material);
@@ -171,10 +172,7 @@ impl Bench {
                 // Elastic balls in a closed box, no gravity, no sleeping; the
                 // density of the 500-ball gas of the adapter tests.
                 let mut b = Self::new(mode, 0.0, Vector::ZERO);
-                let material = Material {
-                    friction: 0.0,
-                    restitution: 1.0,
-                };
+                let material = (0.0, 1.0);
                 let r = 0.5;
                 let half = if DIM == 2 {
                     22.0 * (balls as f64 / 500.0).sqrt()
@@ -199,38 +197,24 @@ impl Bench {
                 // ball, cloth as linear damping, CCD on (a ball moves more
                 // than its diameter per step at break speed).
                 let mut b = Self::new(mode, 0.012, Vector::ZERO);
-                let ball = Material {
-                    friction: 0.0,
-                    restitution: 0.95,
-                };
-                let cushion = Material {
-                    friction: 0.0,
-                    restitution: 0.9,
-                };
+                let ball = (0.0, 0.95);
+                let cushion = (0.0, 0.9);
                 let (r, m) = (0.028575, 0.17);
-                let mut half = Vector::ZERO;
-                half[0] = 1.27;
-                half[1] = 0.635;
-                b.closed_box(half, 0.05, cushion);
+                b.closed_box(xy(1.27, 0.635), 0.05, cushion);
                 let gap = 2.0 * r * 1.0005;
                 let foot = 0.635;
                 for row in 0..5 {
                     for j in 0..=row {
-                        let mut p = Vector::ZERO;
-                        p[0] = foot + row as Real * gap * 0.8660254;
-                        p[1] = (j as Real - 0.5 * row as Real) * gap;
+                        let (x, y) = (row as Real * gap * 0.8660254, (j as Real - 0.5 * row as Real) * gap);
                         let body = RigidBodyBuilder::dynamic()
-                            .translation(p)
+                            .translation(xy(foot + x, y))
                             .linear_damping(0.3)
                             .ccd_enabled(true);
                         b.ball(body, r, m, ball);
                     }
                 }
-                let mut p = Vector::ZERO;
-                p[0] = -foot;
-                p[1] = 0.002;
                 let body = RigidBodyBuilder::dynamic()
-                    .translation(p)
+                    .translation(xy(-foot, 0.002))
                     .linvel(Vector::X * 6.0)
                     .linear_damping(0.3)
                     .ccd_enabled(true);
@@ -246,10 +230,7 @@ impl Bench {
                 // body that needs the law (asleep, a step costs microseconds
                 // in every mode).
                 let mut b = Self::new(mode, 0.0, Vector::ZERO);
-                let material = Material {
-                    friction: 0.0,
-                    restitution: 1.0,
-                };
+                let material = (0.0, 1.0);
                 let (r, spacing) = (0.5, 2.0);
                 let side = per_side(balls);
                 let grid_half = 0.5 * spacing * side as Real;
@@ -262,11 +243,8 @@ impl Bench {
                     b.ball(body, r, 1.0, material);
                 }
                 let row = grid_point(side / 2 * side, side, spacing)[1];
-                let mut p = Vector::ZERO;
-                p[0] = -grid_half - 2.0;
-                p[1] = row + 0.8;
                 let body = RigidBodyBuilder::dynamic()
-                    .translation(p)
+                    .translation(xy(-grid_half - 2.0, row + 0.8))
                     .linvel(Vector::X * 5.0)
                     .can_sleep(false);
                 b.ball(body, r, 10.0, material);

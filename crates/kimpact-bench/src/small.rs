@@ -2,14 +2,6 @@
 // kimpact's fixed cost per step shows): rapier's own restitution example and
 // a pinball table. Included after scene.rs into the same modules.
 
-/// A point of the xy plane (z = 0 in 3D).
-fn xy(x: Real, y: Real) -> Vector {
-    let mut p = Vector::ZERO;
-    p[0] = x;
-    p[1] = y;
-    p
-}
-
 impl Bench {
     /// rapier's examples3d/restitution3.rs (examples2d/restitution2.rs in
     /// 2D), as it is there: a fixed floor (half-extents 20 × 1 × 2, top at
@@ -69,14 +61,8 @@ impl Bench {
         b.kimpact
             .set_law(params)
             .expect("from_restitution gives a valid law");
-        let wall = Material {
-            friction: 0.1,
-            restitution: 0.6,
-        };
-        let ball = Material {
-            friction: 0.1,
-            restitution: 0.8,
-        };
+        let wall = (0.1, 0.6);
+        let ball = (0.1, 0.8);
         let (half_w, top) = (0.25, 1.0);
         let (pivot_x, pivot_y) = (0.1, 0.12);
         let mut outline = vec![
@@ -100,13 +86,13 @@ impl Bench {
         ]);
         let table = b.world.insert_body(RigidBodyBuilder::fixed());
         let collider = ColliderBuilder::polyline(outline, None)
-            .friction(wall.friction)
-            .restitution(wall.restitution);
+            .friction(wall.0)
+            .restitution(wall.1);
         b.world.insert_collider(collider, Some(table));
         for (x, y) in [(-0.08, 0.62), (0.08, 0.62), (0.0, 0.74)] {
             let bumper = RigidBodyBuilder::fixed().translation(xy(x, y));
             let collider = ColliderBuilder::ball(0.025)
-                .friction(wall.friction)
+                .friction(wall.0)
                 .restitution(0.9);
             b.world.insert(bumper, collider);
         }
@@ -121,8 +107,8 @@ impl Bench {
                 .rotation(AngVector::about_z(side * rest));
             let collider = cuboid(bar)
                 .translation(xy(-side * 0.5 * length, 0.0))
-                .friction(wall.friction)
-                .restitution(wall.restitution);
+                .friction(wall.0)
+                .restitution(wall.1);
             let (h, _) = b.world.insert(body, collider);
             b.drives.push(Drive {
                 body: h,

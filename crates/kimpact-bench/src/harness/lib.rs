@@ -25,6 +25,7 @@ mod plot;
 mod records;
 mod scenes;
 mod sim;
+mod stats;
 
 pub use backend::{B2_F32, B2_F64, B3_F32, B3_F64, Backend};
 pub use error::HarnessError;
@@ -38,6 +39,7 @@ pub use scenes::{
     unit_x, z_setup,
 };
 pub use sim::{RefSim, Sim, State, Totals};
+pub use stats::{ks, ks_maxwell, mean_and_error};
 
 /// A vector of the reference's dimension `D`, in f64.
 pub type V<const D: usize> = kimpact_reference::nalgebra::SVector<f64, D>;

@@ -5,12 +5,11 @@
 use kimpact::Precision;
 use kimpact_harness::{
     Backend, CostRow, DT, ErrorRow, GasSeries, HarnessError, Method, V, cradle_setup, gas_series,
-    gas_setup, short_run, two_ball_setup, z_setup,
+    gas_setup, ks, ks_maxwell, short_run, two_ball_setup, z_setup,
 };
 use serde::Serialize;
 
 use crate::format::{e, pct};
-use crate::stats::{ks, ks_maxwell};
 use crate::z::{ZResult, z_run};
 
 /// A line of `accuracy.csv`: one value of a series or of the cost sweep:

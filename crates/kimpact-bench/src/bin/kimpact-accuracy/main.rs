@@ -20,7 +20,6 @@ mod experiments;
 mod format;
 mod plot;
 mod report;
-mod stats;
 mod z;
 
 use std::collections::BTreeMap;

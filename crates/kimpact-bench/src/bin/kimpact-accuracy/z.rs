@@ -2,10 +2,8 @@
 //! the wall impulses and the density away from the walls.
 
 use kimpact_harness::{
-    Backend, DT, HarnessError, Method, R, Setup, V, ball_volume, kinetic, z_setup,
+    Backend, DT, HarnessError, Method, R, Setup, V, ball_volume, kinetic, mean_and_error, z_setup,
 };
-
-use crate::stats::mean_and_error;
 
 /// Henderson's equation of state for hard disks.
 fn henderson(eta: f64) -> f64 {
