@@ -138,19 +138,6 @@ about_z!(f32: f32 => |a| a, f64: f64 => |a| a,
     kimpact3d::math::Vector: f32 => |a| Self::Z * a,
     kimpact3d_f64::math::Vector: f64 => |a| Self::Z * a);
 
-/// A comma-separated list flag of `T`'s names (listed in `--help`), parsed
-/// by `T`'s own `FromStr`.
-fn names<T, E>(
-    names: impl IntoIterator<Item = &'static str>,
-) -> impl clap::builder::TypedValueParser<Value = T>
-where
-    T: std::str::FromStr<Err = E> + Clone + Send + Sync + 'static,
-    E: std::error::Error + Send + Sync + 'static,
-{
-    use clap::builder::TypedValueParser;
-    clap::builder::PossibleValuesParser::new(names).try_map(|s| s.parse::<T>())
-}
-
 /// The kimpact benchmark matrix: time per step against native rapier,
 /// memory and allocations, and scaling.
 #[derive(Parser, Debug, Clone, Serialize, Deserialize)]
@@ -163,10 +150,10 @@ pub struct Cli {
     #[arg(long, value_delimiter = ',', default_values_t = [1000usize, 10000])]
     pub balls: Vec<usize>,
     /// Law modes to run; native always runs too (it is the reference).
-    #[arg(long, value_parser = names::<Mode, _>(Mode::ALL.map(Mode::name)), value_delimiter = ',', default_values_t = Mode::ALL)]
+    #[arg(long, value_delimiter = ',', default_values_t = Mode::ALL)]
     pub mode: Vec<Mode>,
     /// Precisions to run.
-    #[arg(long, value_parser = names::<Precision, _>(Precision::ALL.map(Precision::name)), value_delimiter = ',', default_values_t = Precision::ALL)]
+    #[arg(long, value_delimiter = ',', default_values_t = Precision::ALL)]
     pub precision: Vec<Precision>,
     /// Measured steps per run.
     #[arg(long, default_value_t = 200)]
@@ -174,55 +161,41 @@ pub struct Cli {
     /// Steps before measuring, in every run.
     #[arg(long, default_value_t = 50)]
     pub warmup: usize,
-    /// Steps of the memory runs (each mode alone: peak RSS, and the
-    /// attribution of allocations), after their warm-up.
+    /// Steps of the memory runs (each mode alone: peak RSS, attribution).
     #[arg(long, default_value_t = 50)]
     pub memory_steps: usize,
-    /// Steps before measuring in the memory runs, when not `--warmup`: a
-    /// long one (600) reaches the steady state in which kimpact allocates
-    /// nothing.
+    /// Steps before measuring in the memory runs, when not `--warmup`.
     #[arg(long)]
     pub memory_warmup: Option<usize>,
-    /// Timing runs per mode (each a child process running native and the
-    /// mode in lockstep); the medians pool them.
+    /// Timing runs per mode (child processes); the medians pool them.
     #[arg(long, default_value_t = 1)]
     pub rounds: usize,
-    /// Steps per block when alternating native and the mode in a timing run
-    /// of a scene that scales (each step timed).
+    /// Steps per block when alternating native and the mode.
     #[arg(long, default_value_t = 10)]
     pub block: usize,
-    /// Steps per block in the small scenes, each block timed whole: a step
-    /// of a few microseconds is too short to time alone.
+    /// Steps per block in the small scenes, each block timed whole.
     #[arg(long, default_value_t = 100)]
     pub small_block: usize,
-    /// Episodes per timing run of a small scene: both worlds built anew,
-    /// warmed up and measured this many times, for enough blocks.
+    /// Episodes per timing run of a small scene (worlds built anew).
     #[arg(long, default_value_t = 100)]
     pub small_repeats: usize,
     /// Where results.csv, results.md, raw.json and the plots go.
     #[arg(long, default_value = "target/kimpact-bench")]
     pub out: PathBuf,
-    /// Skip the untimed pass that attributes the heap allocations of the
-    /// measured steps to kimpact or rapier from their stacks.
+    /// Skip attributing the memory runs' allocations to kimpact or rapier.
     #[arg(long)]
     pub no_attribute: bool,
-    /// Give native mode's marked colliders rapier's
-    /// `ActiveHooks::MODIFY_SOLVER_CONTACTS` with a hook that does nothing:
-    /// what rapier itself pays for a hooked pair (no contact recycling, the
-    /// hook's call). It changes the native side of every timing run too,
-    /// so compare its `--solo --mode native` runs with those without it.
+    /// Native mode's marked colliders get `MODIFY_SOLVER_CONTACTS` and a
+    /// hook that does nothing: what rapier pays for a hooked pair.
     #[arg(long)]
     pub hook_native: bool,
-    /// Rebuild the table, CSV and plots from `<out>/raw.json` of a run,
-    /// without running anything.
+    /// Rebuild the table, CSV and plots from `<out>/raw.json`.
     #[arg(long)]
     pub rerender: bool,
-    /// Internal: run one timing pair (native and the first mode) in this
-    /// process and print it as JSON.
+    /// Internal: one timing pair (native and the mode), printed as JSON.
     #[arg(long, hide = true)]
     pub pair: bool,
-    /// Internal: run one mode alone for memory (and attribution with
-    /// --attribute) and print it as JSON.
+    /// Internal: one mode alone for memory, printed as JSON.
     #[arg(long, hide = true)]
     pub solo: bool,
     /// Internal (with --solo): run the attribution pass.
@@ -243,19 +216,6 @@ static HOOK_NATIVE: AtomicBool = AtomicBool::new(false);
 /// Whether `--hook-native` was given.
 pub fn hook_native() -> bool {
     HOOK_NATIVE.load(Ordering::Relaxed)
-}
-
-/// The machine, for the report's header.
-fn machine() -> String {
-    let cpus = std::thread::available_parallelism().map_or(0, |n| n.get());
-    let model = std::fs::read_to_string("/proc/cpuinfo").ok().and_then(|s| {
-        let line = s.lines().find_map(|l| l.strip_prefix("model name"))?;
-        Some(line.trim_start_matches([' ', '\t', ':']).trim().to_owned())
-    });
-    format!(
-        "{cpus} CPUs available (nproc), {}",
-        model.as_deref().unwrap_or("unknown CPU")
-    )
 }
 
 /// Sorted, without repeats.
@@ -308,7 +268,7 @@ fn main() -> ExitCode {
         .chain(std::env::args().skip(1))
         .collect::<Vec<_>>()
         .join(" ");
-    let (machine, parallel) = (machine(), cfg!(feature = "parallel"));
+    let (machine, parallel) = (kimpact_harness::machine(), cfg!(feature = "parallel"));
     let wall_s = started.elapsed().as_secs_f64();
     let header = report::Header {
         command,

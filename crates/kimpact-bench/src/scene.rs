@@ -10,8 +10,8 @@ use k::{Kimpact, Law, LawParams, Mode};
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
 
-use crate::child::{Measure, Pair, Setup, Solo, Timing};
-use crate::{AboutZ, Scene, alloc, memory};
+use crate::child::{Measure, Pair, Solo};
+use crate::{AboutZ, Cli, Scene, alloc, memory};
 
 /// A vector with components uniform in `[-speed, speed)`, from the scene's
 /// seeded generator (the same sequence in every mode).
@@ -144,15 +144,11 @@ impl Bench {
         }
     }
 
-    /// Build what `setup` asks for: its scene with (about) its balls, or
-    /// `None` when the scene is not of this module's dimension.
-    pub fn setup(setup: Setup) -> Option<Self> {
-        let Setup { scene, balls, mode } = setup;
-        if scene.dim() != DIM {
-            return None;
-        }
+    /// `scene` with (about) `balls` balls in `mode` (of this module's
+    /// dimension).
+    pub fn setup(scene: Scene, balls: usize, mode: Mode) -> Self {
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(42);
-        let bench = match scene {
+        match scene {
             Scene::Pit2d | Scene::Pit3d => {
                 // Mixed masses dropped on a grid filling a closed box.
                 let mut b = Self::new(mode, 0.09, -Vector::Y * 9.81);
@@ -252,8 +248,7 @@ impl Bench {
             }
             Scene::Restitution3 | Scene::Restitution2 => Self::restitution(mode),
             Scene::Pinball => Self::pinball(mode, &mut rng),
-        };
-        Some(bench)
+        }
     }
 
     /// One step through kimpact (`Mode::Native` too: identical code path),
@@ -288,78 +283,74 @@ fn measured_block(bench: &mut Bench, n: usize, whole: bool, m: &mut Measure) {
     }
 }
 
-/// Timing: native rapier and the mode on two copies of what `setup` builds,
-/// in this process, in lockstep: per episode, both built, warmed up, then
-/// `steps` measured steps each, alternated in blocks (native's block, then
-/// the mode's), so that whatever else the machine does hits both alike.
-pub fn run_pair(setup: Setup, timing: Timing) -> Option<Pair> {
+/// In a child: the timing pair (`--pair`) or the mode alone (`--solo`)
+/// that `cli` asks for, as JSON.
+pub fn run(cli: &Cli) -> String {
+    let (scene, balls, mode) = (cli.scene[0], cli.balls[0], cli.mode[0]);
+    let build = |mode| Bench::setup(scene, balls, mode);
+    let json = match cli.pair {
+        true => serde_json::to_string(&run_pair(cli, build)),
+        false => serde_json::to_string(&run_solo(cli, || build(mode))),
+    };
+    json.expect("a measure serializes")
+}
+
+/// Timing: native rapier and `cli`'s mode on two copies of its scene
+/// (`build` in a mode), in this process, in lockstep: per episode, both
+/// built, warmed up, then the measured steps, alternated in blocks
+/// (native's block, then the mode's), so that whatever else the machine
+/// does hits both alike.
+fn run_pair(cli: &Cli, build: impl Fn(Mode) -> Bench) -> Pair {
     let (mut mn, mut ml) = (Measure::default(), Measure::default());
-    let block = timing.block.max(1);
+    let block = cli.block.max(1);
     let mut balls = 0;
-    for _ in 0..timing.repeats.max(1) {
-        let native_setup = Setup {
-            mode: Mode::Native,
-            ..setup
-        };
-        let mut worlds = [(Bench::setup(native_setup)?, &mut mn), (Bench::setup(setup)?, &mut ml)];
-        for _ in 0..timing.warmup {
+    for _ in 0..cli.repeats.max(1) {
+        let mut worlds = [(build(Mode::Native), &mut mn), (build(cli.mode[0]), &mut ml)];
+        for _ in 0..cli.warmup {
             worlds.iter_mut().for_each(|(w, _)| w.step());
         }
         let before = worlds.each_ref().map(|(w, _)| w.kimpact.stats().impacts);
         let mut done = 0;
-        while done < timing.steps {
-            let n = block.min(timing.steps - done);
+        while done < cli.steps {
+            let n = block.min(cli.steps - done);
             for (w, m) in &mut worlds {
-                measured_block(w, n, timing.time_blocks, m);
+                measured_block(w, n, cli.time_blocks, m);
             }
             done += n;
         }
         for ((w, m), before) in worlds.iter_mut().zip(before) {
-            m.steps += timing.steps;
+            m.steps += cli.steps;
             m.impacts += w.kimpact.stats().impacts - before;
         }
         balls = worlds[1].0.balls.len();
     }
-    Some(Pair {
-        scene: setup.scene,
-        balls,
-        mode: setup.mode,
-        native: mn,
-        law: ml,
-    })
+    let (scene, mode) = (cli.scene[0], cli.mode[0]);
+    Pair { scene, balls, mode, native: mn, law: ml }
 }
 
 /// Memory and attribution: the mode alone in this process (untimed):
-/// warm-up and `steps` steps, then the peak RSS. With `attribute`, the same
-/// again (serial rapier is deterministic), classifying every allocation of
-/// the measured steps as kimpact's or rapier's from its stack (after the
-/// RSS is read: symbolizing takes memory).
-pub fn run_solo(setup: Setup, warmup: usize, steps: usize, attribute: bool) -> Option<Solo> {
+/// warm-up and the measured steps, then the peak RSS. With `--attribute`,
+/// the same again (serial rapier is deterministic), classifying every
+/// allocation of the measured steps as kimpact's or rapier's from its
+/// stack (after the RSS is read: symbolizing takes memory).
+fn run_solo(cli: &Cli, build: impl Fn() -> Bench) -> Solo {
     let warmed = || {
-        let mut bench = Bench::setup(setup)?;
-        (0..warmup).for_each(|_| bench.step());
-        Some(bench)
+        let mut bench = build();
+        (0..cli.warmup).for_each(|_| bench.step());
+        bench
     };
-    let mut bench = warmed()?;
+    let mut bench = warmed();
     let count = alloc::count();
-    (0..steps).for_each(|_| bench.step());
+    (0..cli.steps).for_each(|_| bench.step());
     let allocs = alloc::count() - count;
     let peak_rss_kib = memory::peak_rss_kib();
     drop(bench);
-    let attributed = match attribute {
-        true => {
-            let mut again = warmed()?;
-            alloc::attribute();
-            (0..steps).for_each(|_| again.step());
-            Some(alloc::stop_attribute())
-        }
-        false => None,
-    };
-    Some(Solo {
-        mode: setup.mode,
-        steps,
-        allocs,
-        peak_rss_kib,
-        attributed,
-    })
+    let attributed = cli.attribute.then(|| {
+        let mut again = warmed();
+        alloc::attribute();
+        (0..cli.steps).for_each(|_| again.step());
+        alloc::stop_attribute()
+    });
+    let (mode, steps) = (cli.mode[0], cli.steps);
+    Solo { mode, steps, allocs, peak_rss_kib, attributed }
 }

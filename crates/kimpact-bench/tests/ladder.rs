@@ -157,7 +157,6 @@ fn summary() -> Value {
         command,
         quick: false,
         errors,
-        costs: vec![],
     };
     serde_json::to_value(s).unwrap()
 }

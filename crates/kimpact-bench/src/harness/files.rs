@@ -1,7 +1,8 @@
-//! Whole-file writes for every tool of this package: each file goes into a
-//! temporary file in its own folder (`tempfile`), and only once every one
-//! is written are they renamed into place (`NamedTempFile::persist`). On
-//! an error the temporary files are removed and the old files stay.
+//! What every tool of the package writes: whole files, each into a
+//! temporary file in its own folder (`tempfile`), renamed into place
+//! (`NamedTempFile::persist`) only once every one is written (on an error
+//! the temporary files are removed and the old files stay); and the
+//! machine a run was on, for the reports' headers.
 
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
@@ -60,4 +61,31 @@ pub fn write_files(files: &[(&Path, &[u8])]) -> Result<(), WriteError> {
 /// [`WriteError`].
 pub fn write_file(path: &Path, contents: &[u8]) -> Result<(), WriteError> {
     write_files(&[(path, contents)])
+}
+
+/// The machine and the compiler, for the header.
+pub fn machine() -> String {
+    let cpu = std::fs::read_to_string("/proc/cpuinfo").ok().and_then(|c| {
+        let line = c.lines().find(|l| l.starts_with("model name"))?;
+        Some(line.split(':').nth(1)?.trim().to_owned())
+    });
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let run = |c: &str, a: &str| std::process::Command::new(c).arg(a).output().ok();
+    let out = |o: Option<std::process::Output>| {
+        o.map(|o| String::from_utf8_lossy(&o.stdout).into_owned())
+            .unwrap_or_default()
+    };
+    // `rustc 1.95.0` without its commit and date: the docs name no commits.
+    let rustc: Vec<String> = out(run("rustc", "-V"))
+        .split(' ')
+        .take(2)
+        .map(str::to_owned)
+        .collect();
+    let cpu = cpu.as_deref().unwrap_or("unknown CPU");
+    let os = out(run("uname", "-sr"));
+    format!(
+        "{cpu}, {cores} cores available to the process, {}; {}",
+        os.trim(),
+        rustc.join(" ")
+    )
 }

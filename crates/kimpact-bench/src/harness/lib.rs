@@ -29,11 +29,11 @@ mod stats;
 
 pub use backend::{B2_F32, B2_F64, B3_F32, B3_F64, Backend};
 pub use error::HarnessError;
-pub use files::{WriteError, write_file, write_files};
+pub use files::{WriteError, machine, write_file, write_files};
 pub use measure::{GasSeries, ShortResult, gas_series, kinetic, momentum, short_run};
 pub use method::Method;
 pub use plot::{Panel, color, svg};
-pub use records::{AccuracySummary, BenchRow, CostRow, ErrorRow};
+pub use records::{AccuracySummary, BenchRow, ErrorRow};
 pub use scenes::{
     DT, R, Rng, Setup, Velocities, ball_volume, cradle_setup, gas_setup, lattice, two_ball_setup,
     unit_x, z_setup,

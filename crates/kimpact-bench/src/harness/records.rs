@@ -89,27 +89,6 @@ pub struct ErrorRow {
     pub noise_floor: Option<f64>,
 }
 
-/// The cost of one mode in one build: the elastic gas of the cost runs.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct CostRow {
-    /// 2 or 3.
-    pub dimension: usize,
-    /// The rapier build's precision.
-    pub precision: Precision,
-    /// kimpact's mode.
-    pub mode: Mode,
-    /// The time step is rapier's default divided by this.
-    pub dt_div: usize,
-    /// Balls of the gas.
-    pub balls: usize,
-    /// Milliseconds per step (wall clock, one thread).
-    #[serde(deserialize_with = "number")]
-    pub ms_per_step: f64,
-    /// CPU seconds per simulated second.
-    #[serde(deserialize_with = "number")]
-    pub cpu_s_per_sim_s: f64,
-}
-
 /// Everything `accuracy-summary.json` holds.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct AccuracySummary {
@@ -121,9 +100,6 @@ pub struct AccuracySummary {
     pub quick: bool,
     /// The headline errors.
     pub errors: Vec<ErrorRow>,
-    /// The cost of each mode.
-    #[serde(default)]
-    pub costs: Vec<CostRow>,
 }
 
 /// A number, `null` (serde_json's NaN) read as NaN.

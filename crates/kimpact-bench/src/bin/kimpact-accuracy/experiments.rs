@@ -4,8 +4,8 @@
 
 use kimpact::Precision;
 use kimpact_harness::{
-    Backend, CostRow, DT, ErrorRow, GasSeries, HarnessError, Method, V, cradle_setup, gas_series,
-    gas_setup, ks, ks_maxwell, short_run, two_ball_setup, z_setup,
+    Backend, DT, ErrorRow, GasSeries, HarnessError, Method, V, cradle_setup, gas_series, gas_setup,
+    ks, ks_maxwell, short_run, two_ball_setup, z_setup,
 };
 use serde::Serialize;
 
@@ -42,7 +42,6 @@ pub struct Out {
     pub notes: Vec<String>,
     pub z: Vec<ZEntry>,
     pub errors: Vec<ErrorRow>,
-    pub costs: Vec<CostRow>,
 }
 
 impl Out {
@@ -54,7 +53,6 @@ impl Out {
         self.notes.extend(other.notes);
         self.z.extend(other.z);
         self.errors.extend(other.errors);
-        self.costs.extend(other.costs);
     }
 }
 
@@ -568,19 +566,6 @@ pub fn cost_jobs<const D: usize>(b: Backend<D>, sizes: &Sizes) -> Result<Out, Ha
             j.error(m, "gas", div, "energy_error", energy, None);
             j.error(m, "one_impact", div, "velocity_error", one.dv, None);
             j.error(m, "cradle", div, "velocity_error", cradle.dv, None);
-            if let Some(mode) = m.mode() {
-                let (dimension, precision, balls) = (D, b.precision, sizes.gas_n);
-                let (ms_per_step, cpu_s_per_sim_s) = (g.ms_per_step, cost);
-                j.out.costs.push(CostRow {
-                    dimension,
-                    precision,
-                    mode,
-                    dt_div: div,
-                    balls,
-                    ms_per_step,
-                    cpu_s_per_sim_s,
-                });
-            }
         }
     }
     Ok(j.out)

@@ -13,7 +13,7 @@
 //! `docs/accuracy.csv` (every number of the plots and the time series, long
 //! format: `section,engine,method,dt_div,x,quantity,value`) and
 //! `docs/accuracy-summary.json` (the headline errors per scene, build and
-//! mode, and the cost of each mode). The simulators, scenes and
+//! mode, an [`kimpact_harness::AccuracySummary`]). The simulators, scenes and
 //! measurements are the `kimpact_harness` library of this package.
 
 mod experiments;
@@ -194,7 +194,7 @@ fn run(args: &Args) -> Result<(), RunError> {
         .into_inner()
         .map_err(|e| RunError::Output(e.to_string()))?;
     let (points, notes) = (all.points, all.notes);
-    let (errors, costs) = (all.errors, all.costs);
+    let errors = all.errors;
 
     let svg = kimpact_harness::svg(&plot::panels(&points, sizes.gas_n), 3, (460, 320))
         .map_err(RunError::Plot)?;
@@ -202,7 +202,6 @@ fn run(args: &Args) -> Result<(), RunError> {
         command: report::command(args.quick),
         quick: args.quick,
         errors,
-        costs,
     };
     let summary = serde_json::to_string_pretty(&summary).expect("the summary serializes") + "\n";
     let dir = &args.out;

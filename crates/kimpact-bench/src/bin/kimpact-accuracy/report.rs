@@ -100,33 +100,6 @@ pub fn z_tables(z: &[ZEntry]) -> (Vec<Vec<String>>, Vec<Vec<String>>) {
     (main, checks)
 }
 
-/// The machine and the compiler, for the header.
-fn machine() -> String {
-    let cpu = std::fs::read_to_string("/proc/cpuinfo").ok().and_then(|c| {
-        let line = c.lines().find(|l| l.starts_with("model name"))?;
-        Some(line.split(':').nth(1)?.trim().to_owned())
-    });
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let run = |c: &str, a: &str| std::process::Command::new(c).arg(a).output().ok();
-    let out = |o: Option<std::process::Output>| {
-        o.map(|o| String::from_utf8_lossy(&o.stdout).into_owned())
-            .unwrap_or_default()
-    };
-    // `rustc 1.95.0` without its commit and date: the docs name no commits.
-    let rustc: Vec<String> = out(run("rustc", "-V"))
-        .split(' ')
-        .take(2)
-        .map(str::to_owned)
-        .collect();
-    let cpu = cpu.as_deref().unwrap_or("unknown CPU");
-    let os = out(run("uname", "-sr"));
-    format!(
-        "{cpu}, {cores} cores available to the process, {}; {}",
-        os.trim(),
-        rustc.join(" ")
-    )
-}
-
 /// What `accuracy.md` is filled with: each table's rows by the
 /// template's name for it (`impact`, `cradle`, `gas`, `z`, `z_checks`,
 /// `cooling`, `cost`), and the run.
@@ -183,7 +156,7 @@ pub fn document(d: &Document<'_>) -> String {
         ("elapsed", format!("{:.0}", d.elapsed)),
         ("quick", quick.to_owned()),
         ("notes", notes),
-        ("machine", machine()),
+        ("machine", kimpact_harness::machine()),
         ("findings", d.findings.to_owned()),
     ]);
     let template = include_str!("accuracy.md.in");

@@ -13,8 +13,7 @@
 //!   mode).
 //! - **Modes**: every mode either side has for a joined scene must be on
 //!   both sides, in every quantity; a scene in neither file is left out
-//!   (with a note); the same key twice on one side is an error, and so is a
-//!   bench row of another dimension than its scene's.
+//!   (with a note); the same key twice on one side is an error.
 //! - **Values**: a ×native, error or noise floor that is not a number (NaN,
 //!   infinite; `null` in the JSON) leaves its point out, with a note; a
 //!   ×native at or below 0, a negative error or noise floor is an error.
@@ -31,35 +30,15 @@ use kimpact_harness::{BenchRow, ErrorRow};
 
 use crate::LadderError;
 
-/// A joined scene: the bench's name, the study's, their dimension and the
-/// label of the plot and the page.
-#[derive(Debug, PartialEq, Eq)]
-pub struct SceneRule {
-    /// The bench's scene (`scene` of [`BenchRow`]).
-    pub bench: &'static str,
-    /// The study's scene (`scene` of [`ErrorRow`]).
-    pub accuracy: &'static str,
-    /// The dimension of both.
-    pub dimension: usize,
-    /// How the plot and the page name it.
-    pub label: &'static str,
-}
+/// A joined scene: the bench's scene, the dimension of the accuracy
+/// study's [`GAS`] it is measured against, and its label.
+pub type SceneRule = (&'static str, usize, &'static str);
 
 /// The joined scenes, in the order of the plot and the page.
-pub const SCENES: [SceneRule; 2] = [
-    SceneRule {
-        bench: "gas2d",
-        accuracy: "gas",
-        dimension: 2,
-        label: "2D gas",
-    },
-    SceneRule {
-        bench: "gas3d",
-        accuracy: "gas",
-        dimension: 3,
-        label: "3D gas",
-    },
-];
+pub const SCENES: [SceneRule; 2] = [("gas2d", 2, "2D gas"), ("gas3d", 3, "3D gas")];
+
+/// The accuracy study's scene the bench's gases are measured against.
+pub const GAS: &str = "gas";
 
 /// The quantities drawn, one panel each: (name in the summary, label).
 pub const QUANTITIES: [(&str, &str); 2] = [
@@ -154,53 +133,34 @@ fn by_mode<'a, T>(
 ///
 /// # Errors
 /// A mode on one side of a scene and not the other, a key twice on one
-/// side, a bench row of another dimension than its scene, a value out of
-/// range, or nothing to draw at all.
+/// side, a value out of range, or nothing to draw at all.
 pub fn join(
     bench: &[(u64, BenchRow)],
     summary: &[ErrorRow],
     files: Files<'_>,
 ) -> Result<Join, LadderError> {
     let mut out = Join {
-        points: Vec::new(),
-        skipped: Vec::new(),
-        absent: Vec::new(),
+        points: vec![],
+        skipped: vec![],
+        absent: vec![],
     };
     for scene in &SCENES {
-        let bench_key = format!(
-            "{} ({PRECISION}, {BALLS} balls, parallel false)",
-            scene.bench
-        );
+        let (name, dim, scene_label) = *scene;
+        let bench_key = format!("{name} ({PRECISION}, {BALLS} balls, parallel false)");
         let rows = bench.iter().filter(|(_, r)| {
-            (r.scene.as_str(), r.precision, r.balls, r.parallel)
-                == (scene.bench, PRECISION, BALLS, false)
+            (r.scene.as_str(), r.precision, r.balls, r.parallel) == (name, PRECISION, BALLS, false)
         });
-        for (line, r) in rows.clone().filter(|(_, r)| r.dim != scene.dimension) {
-            let message = format!(
-                "line {line}: {} has dim {}; it is joined to a {}D accuracy scene",
-                r.scene, r.dim, scene.dimension
-            );
-            return Err(LadderError::new(files.bench, message));
-        }
         let rows = rows.map(|(line, r)| (format!("line {line}"), r, r.mode));
         let costs = by_mode(rows, &bench_key, files.bench)?;
         let mut errors = Vec::new();
-        for (name, label) in QUANTITIES {
-            let key = format!(
-                "{name} of scene {} in {}D ({PRECISION}, dt_div 1)",
-                scene.accuracy, scene.dimension
-            );
+        for (quantity, label) in QUANTITIES {
+            let key = format!("{quantity} of scene {GAS} in {dim}D ({PRECISION}, dt_div 1)");
             let entries = summary.iter().enumerate().filter(|(_, e)| {
-                (
-                    e.scene.as_str(),
-                    e.dimension,
-                    e.precision,
-                    e.dt_div,
-                    e.quantity.as_str(),
-                ) == (scene.accuracy, scene.dimension, PRECISION, 1, name)
+                let k = (e.scene.as_str(), e.dimension, e.precision, e.dt_div);
+                k == (GAS, dim, PRECISION, 1) && e.quantity == quantity
             });
             let entries = entries.map(|(i, e)| (format!("errors[{i}]"), e, e.mode));
-            errors.push((label, key, by_mode(entries, name, files.accuracy)?));
+            errors.push((label, key, by_mode(entries, quantity, files.accuracy)?));
         }
         if costs.is_empty() && errors.iter().all(|e| e.2.is_empty()) {
             out.absent.push(scene);
@@ -227,15 +187,14 @@ pub fn join(
         for (label, _, entries) in &errors {
             for (mode, (index, e)) in entries {
                 let (line, cost) = &costs[mode];
-                let what = format!("{}, {label}, {mode}", scene.label);
+                let what = format!("{scene_label}, {label}, {mode}");
                 let at = |field: &str| format!("{}, {index}.{field}", files.accuracy.display());
                 let nan = if !cost.ratio.is_finite() {
                     let said = cost
                         .error
                         .as_ref()
                         .map(|e| format!("; the bench's error: {e}"));
-                    let bench = files.bench.display();
-                    let said = said.unwrap_or_default();
+                    let (bench, said) = (files.bench.display(), said.unwrap_or_default());
                     Some(format!(
                         "×native is {} in {bench}, {line}{said}",
                         cost.ratio
@@ -258,16 +217,15 @@ pub fn join(
                     let message = format!("{index}: a negative error or noise floor");
                     return Err(LadderError::new(files.accuracy, message));
                 }
-                let (ratio, error, noise_floor) = (cost.ratio, e.error, e.noise_floor);
-                let p = Point {
+                let (ratio, error, noise_floor, mode) = (cost.ratio, e.error, e.noise_floor, *mode);
+                out.points.push(Point {
                     scene,
                     quantity: label,
-                    mode: *mode,
+                    mode,
                     ratio,
                     error,
                     noise_floor,
-                };
-                out.points.push(p);
+                });
             }
         }
     }

@@ -69,7 +69,7 @@ pub fn markdown(
             Level::Zero => "the bottom (hollow)",
         };
         let floor = p.noise_floor.map_or("—".to_owned(), |f| format!("{f:.2e}"));
-        let (scene, q, m, r, e) = (p.scene.label, p.quantity, p.mode, p.ratio, p.error);
+        let (scene, q, m, r, e) = (p.scene.2, p.quantity, p.mode, p.ratio, p.error);
         let _ = writeln!(
             md,
             "| {scene} | {q} | {m} | {r:.3} | {e:.2e} | {floor} | {drawn} |"
@@ -81,19 +81,19 @@ pub fn markdown(
             let _ = writeln!(md, "- {k}.");
         }
         for a in &join.absent {
-            let (l, b, s, d) = (a.label, a.bench, a.accuracy, a.dimension);
+            let (b, d, l) = **a;
             let _ = writeln!(
                 md,
-                "- {l}: neither file has it (bench scene `{b}`, accuracy scene `{s}` in {d}D)."
+                "- {l}: neither file has it (bench scene `{b}`, accuracy scene `gas` in {d}D)."
             );
         }
     }
     md += "\n## The join\n\nThe rules are in `crates/kimpact-bench/src/bin/kimpact-ladder/join.rs`:\n\n";
     for s in &SCENES {
-        let (b, a, d, l) = (s.bench, s.accuracy, s.dimension, s.label);
+        let (b, d, l) = *s;
         let _ = writeln!(
             md,
-            "- the bench's `{b}` is measured against the accuracy study's `{a}` in {d}D ({l});"
+            "- the bench's `{b}` is measured against the accuracy study's `gas` in {d}D ({l});"
         );
     }
     let quantities: Vec<String> = QUANTITIES.iter().map(|q| format!("`{}`", q.0)).collect();

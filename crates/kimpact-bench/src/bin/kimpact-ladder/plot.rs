@@ -134,7 +134,7 @@ fn panel(
         .map_err(e)?;
         let font = ("sans-serif", 13).into_font().color(&GREY);
         chart
-            .draw_series([EmptyElement::at(at) + Text::new(scene.label, (9, -6), font)])
+            .draw_series([EmptyElement::at(at) + Text::new(scene.2, (9, -6), font)])
             .map_err(e)?;
     }
     for mode in Mode::ALL {
