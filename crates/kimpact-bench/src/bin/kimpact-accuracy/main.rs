@@ -118,20 +118,32 @@ fn jobs<'a>(sizes: &'a Sizes) -> Result<Vec<Job<'a>>, HarnessError> {
             }
         }
     }
-    for m in Method::RAPIER {
-        jobs.push(Box::new(move || gas_jobs(B2_F32, m, sizes)));
-        jobs.push(Box::new(move || gas_jobs(B2_F64, m, sizes)));
-        jobs.push(Box::new(move || gas_jobs(B3_F32, m, sizes)));
-        jobs.push(Box::new(move || gas_jobs(B3_F64, m, sizes)));
+    // The gases, the cooling gases and the short scenes in every build.
+    macro_rules! each_build {
+        (|$b:ident| $job:expr) => {{
+            jobs.push(Box::new(move || {
+                let $b = B2_F32;
+                $job
+            }));
+            jobs.push(Box::new(move || {
+                let $b = B2_F64;
+                $job
+            }));
+            jobs.push(Box::new(move || {
+                let $b = B3_F32;
+                $job
+            }));
+            jobs.push(Box::new(move || {
+                let $b = B3_F64;
+                $job
+            }));
+        }};
     }
-    jobs.push(Box::new(move || cooling_jobs(B2_F32, sizes)));
-    jobs.push(Box::new(move || cooling_jobs(B2_F64, sizes)));
-    jobs.push(Box::new(move || cooling_jobs(B3_F32, sizes)));
-    jobs.push(Box::new(move || cooling_jobs(B3_F64, sizes)));
-    jobs.push(Box::new(|| short_jobs(B2_F32)));
-    jobs.push(Box::new(|| short_jobs(B2_F64)));
-    jobs.push(Box::new(|| short_jobs(B3_F32)));
-    jobs.push(Box::new(|| short_jobs(B3_F64)));
+    for m in Method::RAPIER {
+        each_build!(|b| gas_jobs(b, m, sizes));
+    }
+    each_build!(|b| cooling_jobs(b, sizes));
+    each_build!(|b| short_jobs(b));
     Ok(jobs)
 }
 

@@ -1,13 +1,13 @@
 //! `ladder.md`: the page beside the plot, generated whole: the command
 //! that made it, where its numbers come from, the picture, the joined
-//! table, the points left out and the join's rules.
+//! table and the points left out.
 
 use std::fmt::Write as _;
 use std::path::{Component, Path};
 
 use kimpact_harness::AccuracySummary;
 
-use crate::join::{BALLS, Files, Join, Level, PRECISION, QUANTITIES, SCENES};
+use crate::join::{Files, Join, Level};
 
 /// The page for `join` of `files` (the summary `summary`), its plot and
 /// itself at `(svg, md)`.
@@ -88,21 +88,6 @@ pub fn markdown(
             );
         }
     }
-    md += "\n## The join\n\nThe rules are in `crates/kimpact-bench/src/bin/kimpact-ladder/join.rs`:\n\n";
-    for s in &SCENES {
-        let (b, d, l) = *s;
-        let _ = writeln!(
-            md,
-            "- the bench's `{b}` is measured against the accuracy study's `gas` in {d}D ({l});"
-        );
-    }
-    let quantities: Vec<String> = QUANTITIES.iter().map(|q| format!("`{}`", q.0)).collect();
-    let _ = writeln!(
-        md,
-        "- both in {PRECISION}; the bench's rows of {BALLS} balls, rapier's `parallel` feature off; the accuracy errors at dt_div 1 (rapier's own time step); the quantities {};\n\
-         - both are elastic gases of balls in a closed box, the same kind of scene but not the same balls;\n\
-         - every mode either side has for a scene must be on both sides; a ×native, error or noise floor that is not a number leaves its point out (under *Left out*).",
-        quantities.join(" and "),
-    );
+    md += "\nThe join's rules (which rows of each file meet, and what leaves a point out) are in `crates/kimpact-bench/src/bin/kimpact-ladder/join.rs`.\n";
     md
 }
