@@ -1,5 +1,5 @@
-//! The child processes of a run: what they measure, the arguments they
-//! get, and running one (its JSON answer on its last line of output).
+//! The child processes of a run: what they measure, their arguments, and
+//! running one (its JSON answer on its last line of output).
 
 use std::process::{Command, ExitCode, Stdio};
 
@@ -8,48 +8,33 @@ use serde::{Deserialize, Serialize};
 use crate::report::Group;
 use crate::{Cli, Mode, Precision, Scene, d2, d2_f64, d3, d3_f64};
 
-/// What the measured steps of one world did.
+/// What the measured steps of one world did: their number, the CPU time
+/// of the process per step of each sample (µs), the heap allocations (all
+/// threads) and the impacts the law resolved.
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct Measure {
-    /// Measured steps.
     pub steps: usize,
-    /// CPU time of the process (all threads) per step of each sample, µs.
     pub cpu_us: Vec<f64>,
-    /// Heap allocations during the measured steps (all threads).
     pub allocs: u64,
-    /// Impacts the law resolved.
     pub impacts: u64,
 }
 
-/// A timing child: native and one mode, in lockstep in one process.
+/// A timing child: the scene's balls, native's measure and the mode's, in
+/// lockstep in one process.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Pair {
-    /// The scene.
-    pub scene: Scene,
-    /// Dynamic balls in it.
     pub balls: usize,
-    /// The mode.
-    pub mode: Mode,
-    /// Native's measure.
     pub native: Measure,
-    /// The mode's.
     pub law: Measure,
 }
 
-/// A memory child: one mode alone, its peak RSS and the attribution of its
-/// allocations.
+/// A memory child: the allocations of one mode alone in its measured
+/// steps, its `VmHWM` after them (KiB) and, from a second pass classifying
+/// every allocation, (classified, kimpact's).
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Solo {
-    /// The mode.
-    pub mode: Mode,
-    /// Measured steps.
-    pub steps: usize,
-    /// Allocations during them.
     pub allocs: u64,
-    /// `VmHWM` after warm-up and the measured steps, KiB.
     pub peak_rss_kib: u64,
-    /// From a second pass classifying every allocation of the measured
-    /// steps: (classified, kimpact's).
     pub attributed: Option<(u64, u64)>,
 }
 
@@ -123,9 +108,8 @@ fn logged<T>(r: Result<T, String>) -> Result<T, String> {
 pub type Config = (Scene, usize, Precision);
 
 /// The children of one configuration: `--rounds` timing pairs of each law
-/// mode of `modes` (native against itself when there is none), then one
-/// run of each of `modes` alone. `progress` hears of each child before it
-/// runs. A child that fails is reported on stderr and kept as its error.
+/// mode (native against itself when there is none), then each mode alone;
+/// a child that fails is reported and kept as its error.
 pub fn measure_group(cli: &Cli, config: Config, modes: &[Mode], progress: impl Fn(&str)) -> Group {
     let law: Vec<Mode> = modes
         .iter()

@@ -1,22 +1,12 @@
 //! `kimpact-bench`: what each accuracy level costs against native rapier.
 //!
-//! For every chosen scene, ball count and precision, each law mode gets a
-//! timing run: a child process of this binary that builds the scene twice,
-//! native and with the mode, and steps the two in lockstep, alternating
-//! blocks of steps (native, mode, native, mode…) so that whatever else the
-//! machine does hits both alike; the ratio to native comes from that same
-//! process. Each mode (native too) then runs alone in another child for its
-//! peak resident memory and, in an untimed second pass, the attribution of
-//! its heap allocations to kimpact's code or rapier's (from their stacks).
-//! The parent prints a markdown table (median CPU time per step, ratio,
-//! allocations per step, peak RSS, scaling slopes) and writes
-//! `results.csv` (rows of [`kimpact_harness::BenchRow`]), `results.md`,
-//! `raw.json` and one `scaling-<scene>-<precision>.svg` per scene with
-//! several ball counts. The small scenes (a step of microseconds) are timed
-//! by whole blocks of steps over repeated episodes.
-//!
-//! Benchmarks are not tests: nothing here fails on a timing, and the
-//! project's targets are in `docs/benchmarks.md`, not here.
+//! Each law mode of each scene, size and precision gets timing runs (a
+//! child process stepping native and the mode in lockstep, in blocks) and a
+//! memory run (the mode alone: peak RSS, then its allocations attributed to
+//! kimpact or rapier from their stacks). The parent prints a markdown table
+//! and writes `results.csv` (rows of [`kimpact_harness::BenchRow`]),
+//! `results.md`, `raw.json` and scaling plots. It reports figures and
+//! judges none: the targets are in `docs/benchmarks.md`.
 // `f64::from(x)` converts in the f32 builds and is the identity in the f64 ones.
 #![allow(clippy::useless_conversion, clippy::unnecessary_cast)]
 
@@ -68,13 +58,11 @@ pub enum Scene {
     Billiards,
     /// 2D, no gravity: one cue ball moving through resting balls (awake).
     Cue,
-    /// 3D, rapier's examples3d/restitution3.rs: 22 balls of restitution
-    /// 0..1 dropped on a floor (22 balls).
+    /// 3D, rapier's examples3d/restitution3.rs (22 balls).
     Restitution3,
     /// Its 2D twin, rapier's examples2d/restitution2.rs (22 balls).
     Restitution2,
-    /// 2D pinball: 3 balls on a tilted table (a polyline outline, fixed
-    /// bumpers) and two kinematic flippers swinging periodically.
+    /// 2D pinball: 3 balls, a polyline table, bumpers and two flippers.
     Pinball,
 }
 
@@ -87,8 +75,7 @@ impl Scene {
         }
     }
 
-    /// The balls of a scene whose size is fixed (`--balls` does not set
-    /// it), `None` for the scenes that scale.
+    /// The balls of a scene of fixed size (`None`: `--balls` sets it).
     pub fn fixed_balls(self) -> Option<usize> {
         match self {
             Scene::Billiards => Some(16),
@@ -98,8 +85,7 @@ impl Scene {
         }
     }
 
-    /// A small scene (the fixed-size ones): a step of a few microseconds,
-    /// timed by whole blocks of steps over repeated episodes.
+    /// A small scene: a step of microseconds, timed by whole blocks.
     pub fn small(self) -> bool {
         self.fixed_balls().is_some()
     }
@@ -120,8 +106,7 @@ impl Scene {
     }
 }
 
-/// An angular velocity (or rotation) about the z axis, for the scenes'
-/// one source: a scalar in 2D, a vector in 3D.
+/// An angle or angular velocity about z: a scalar in 2D, a vector in 3D.
 pub trait AboutZ<R> {
     /// The angle or angular speed `a` about z.
     fn about_z(a: R) -> Self;

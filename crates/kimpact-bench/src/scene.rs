@@ -1,7 +1,6 @@
-// The bench scenes and one measured run, written once for 2D/3D and f32/f64:
-// included into modules that alias the adapter crate as `k` (see main.rs).
-// Native and the law modes run through exactly this code; only the `Mode`
-// given to `Kimpact::new` differs.
+// The bench scenes and the child's runs, once for 2D/3D and f32/f64
+// (included where `k` is an adapter crate); native and the law modes run
+// the same code, only the `Mode` differs.
 
 use k::math::{DIM, Real, Vector};
 use k::rapier::math::AngVector;
@@ -13,8 +12,7 @@ use rand::{RngExt, SeedableRng};
 use crate::child::{Measure, Pair, Solo};
 use crate::{AboutZ, Cli, Scene, alloc, memory};
 
-/// A vector with components uniform in `[-speed, speed)`, from the scene's
-/// seeded generator (the same sequence in every mode).
+/// A vector with components uniform in `[-speed, speed)`.
 fn random_vector(rng: &mut Xoshiro256PlusPlus, speed: Real) -> Vector {
     let mut v = Vector::ZERO;
     for axis in 0..DIM {
@@ -32,8 +30,7 @@ fn per_side(n: usize) -> usize {
     side
 }
 
-/// Grid cell `i` of a `side`-per-axis grid of pitch `spacing` centred at the
-/// origin.
+/// Cell `i` of a `side`-per-axis grid of pitch `spacing` about the origin.
 fn grid_point(i: usize, side: usize, spacing: Real) -> Vector {
     let half = 0.5 * spacing * side as Real;
     let mut p = Vector::ZERO;
@@ -71,9 +68,8 @@ pub struct Bench {
     time: Real,
 }
 
-/// A kinematic body swung about its origin at a periodic angular velocity
-/// `sign · amplitude · (2π/period) · sin(2π t/period)`: from its starting
-/// angle, it turns by `sign · amplitude · (1 − cos(2π t/period))`.
+/// A kinematic body swung at the angular velocity
+/// `sign · amplitude · (2π/period) · sin(2π t/period)`.
 struct Drive {
     body: RigidBodyHandle,
     amplitude: Real,
@@ -112,9 +108,7 @@ impl Bench {
         self.balls.push(b);
     }
 
-    /// `collider` with rapier's contact-modification hook flag in native
-    /// mode under `--hook-native` (see [`crate::hook_native`]), as it is
-    /// otherwise.
+    /// `collider`, hooked in native mode under `--hook-native`.
     pub(crate) fn hooked_if_asked(&self, collider: ColliderBuilder) -> ColliderBuilder {
         if self.kimpact.mode() == Mode::Native && crate::hook_native() {
             collider.active_hooks(ActiveHooks::MODIFY_SOLVER_CONTACTS)
@@ -123,8 +117,7 @@ impl Bench {
         }
     }
 
-    /// A closed box of inner half-extents `half` centred at the origin, made
-    /// of fixed, unmarked walls (they meet the law as fixed partners).
+    /// A closed box of fixed walls, inner half-extents `half`.
     fn closed_box(&mut self, half: Vector, thickness: Real, material: Material) {
         let t = thickness;
         for axis in 0..DIM {
@@ -165,8 +158,7 @@ impl Bench {
                 b
             }
             Scene::Gas2d | Scene::Gas3d => {
-                // Elastic balls in a closed box, no gravity, no sleeping; the
-                // density of the 500-ball gas of the adapter tests.
+                // The density of the adapter tests' 500-ball gas.
                 let mut b = Self::new(mode, 0.0, Vector::ZERO);
                 let material = (0.0, 1.0);
                 let r = 0.5;
@@ -189,9 +181,7 @@ impl Bench {
                 b
             }
             Scene::Billiards => {
-                // A pool table seen from above: 15 racked balls and the cue
-                // ball, cloth as linear damping, CCD on (a ball moves more
-                // than its diameter per step at break speed).
+                // 15 racked balls and the cue ball, cloth as damping, CCD.
                 let mut b = Self::new(mode, 0.012, Vector::ZERO);
                 let ball = (0.0, 0.95);
                 let cushion = (0.0, 0.9);
@@ -218,13 +208,8 @@ impl Bench {
                 b
             }
             Scene::Cue => {
-                // One heavy cue ball crossing a grid of `balls` resting
-                // balls, no gravity; it clips the row below its lane every
-                // 2 m, and the balls it knocks are damped back to rest. The
-                // resting balls never sleep: rapier steps all of them, and
-                // kimpact must not add more than a few percent for the one
-                // body that needs the law (asleep, a step costs microseconds
-                // in every mode).
+                // A heavy cue ball through a grid of resting, damped, awake
+                // balls, clipping one every 2 m.
                 let mut b = Self::new(mode, 0.0, Vector::ZERO);
                 let material = (0.0, 1.0);
                 let (r, spacing) = (0.5, 2.0);
@@ -266,10 +251,9 @@ impl Bench {
     }
 }
 
-/// CPU time and allocations of `n` measured steps, appended to `m`:
-/// one sample per step, or with `whole` one sample for the block (its time
-/// over `n`), so that a step of a few microseconds is not lost in the
-/// clock's own cost.
+/// CPU time and allocations of `n` measured steps into `m`: a sample per
+/// step, or with `whole` one per block (a step of microseconds is too short
+/// to time alone).
 fn measured_block(bench: &mut Bench, n: usize, whole: bool, m: &mut Measure) {
     let per_sample = if whole { n } else { 1 };
     for _ in 0..n / per_sample {
@@ -295,11 +279,9 @@ pub fn run(cli: &Cli) -> String {
     json.expect("a measure serializes")
 }
 
-/// Timing: native rapier and `cli`'s mode on two copies of its scene
-/// (`build` in a mode), in this process, in lockstep: per episode, both
-/// built, warmed up, then the measured steps, alternated in blocks
-/// (native's block, then the mode's), so that whatever else the machine
-/// does hits both alike.
+/// Timing: native and `cli`'s mode on two copies of its scene (`build`),
+/// per episode warmed up, then measured in alternating blocks, so that the
+/// machine's drift hits both alike.
 fn run_pair(cli: &Cli, build: impl Fn(Mode) -> Bench) -> Pair {
     let (mut mn, mut ml) = (Measure::default(), Measure::default());
     let block = cli.block.max(1);
@@ -324,15 +306,12 @@ fn run_pair(cli: &Cli, build: impl Fn(Mode) -> Bench) -> Pair {
         }
         balls = worlds[1].0.balls.len();
     }
-    let (scene, mode) = (cli.scene[0], cli.mode[0]);
-    Pair { scene, balls, mode, native: mn, law: ml }
+    Pair { balls, native: mn, law: ml }
 }
 
-/// Memory and attribution: the mode alone in this process (untimed):
-/// warm-up and the measured steps, then the peak RSS. With `--attribute`,
-/// the same again (serial rapier is deterministic), classifying every
-/// allocation of the measured steps as kimpact's or rapier's from its
-/// stack (after the RSS is read: symbolizing takes memory).
+/// Memory: the mode alone, then the peak RSS; with `--attribute`, the same
+/// steps again (serial rapier is deterministic) with every allocation
+/// attributed (after the RSS is read: symbolizing takes memory).
 fn run_solo(cli: &Cli, build: impl Fn() -> Bench) -> Solo {
     let warmed = || {
         let mut bench = build();
@@ -351,6 +330,5 @@ fn run_solo(cli: &Cli, build: impl Fn() -> Bench) -> Solo {
         (0..cli.steps).for_each(|_| again.step());
         alloc::stop_attribute()
     });
-    let (mode, steps) = (cli.mode[0], cli.steps);
-    Solo { mode, steps, allocs, peak_rss_kib, attributed }
+    Solo { allocs, peak_rss_kib, attributed }
 }

@@ -25,6 +25,7 @@ mod plot;
 mod records;
 mod scenes;
 mod sim;
+mod stacks;
 mod stats;
 
 pub use backend::{B2_F32, B2_F64, B3_F32, B3_F64, Backend};
@@ -39,6 +40,7 @@ pub use scenes::{
     unit_x, z_setup,
 };
 pub use sim::{RefSim, Sim, State, Totals};
+pub use stacks::is_kimpact;
 pub use stats::{ks, ks_maxwell, mean_and_error};
 
 /// A vector of the reference's dimension `D`, in f64.

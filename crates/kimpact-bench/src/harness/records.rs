@@ -5,52 +5,42 @@
 use kimpact::{Mode, Precision};
 use serde::{Deserialize, Deserializer, Serialize};
 
-/// One row of the bench's `results.csv`: a mode on one scene, size and
-/// precision. Times are medians of the process's CPU time per step, in µs.
+/// One row of the bench's `results.csv`: a mode on one scene (`gas2d`,
+/// `pit3d`…, of dimension `dim`), size (`balls`) and precision, rapier's
+/// `parallel` feature on or off. Times are medians of the process's CPU
+/// time per step in µs, pooled over `rounds` timing runs (native's row:
+/// every mode's) and `samples` samples: the mode's (`median_us`) and
+/// native's in the same processes (`native_median_us`); `ratio` is ×native,
+/// their quotient (NaN when not measured), `ratio_min`, `ratio_max` and
+/// `ratio_median_rounds` those of the single rounds, `delta_us` their
+/// difference (what the mode adds to a step). Per measured step: heap
+/// allocations (all threads), native's, kimpact's (their share whose
+/// stacks lead to kimpact's code times the total; NaN: not attributed),
+/// and the impacts the law resolved. `peak_rss_mib` is the peak resident
+/// memory of a process running the mode alone; `error` why a run failed.
+#[allow(missing_docs)]
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BenchRow {
-    /// The bench scene (`gas2d`, `pit3d`…).
     pub scene: String,
-    /// Its dimension.
     pub dim: usize,
-    /// The build's precision.
     pub precision: Precision,
-    /// Whether rapier ran with its `parallel` feature.
     pub parallel: bool,
-    /// Dynamic balls in the scene.
     pub balls: usize,
-    /// The mode.
     pub mode: Mode,
-    /// Timing runs pooled (native's row: every mode's).
     pub rounds: usize,
-    /// Time samples pooled.
     pub samples: usize,
-    /// Median CPU time per step.
     pub median_us: f64,
-    /// Native's median CPU time per step in the same processes.
     pub native_median_us: f64,
-    /// ×native: `median_us / native_median_us` (NaN when not measured).
     pub ratio: f64,
-    /// The lowest, highest and median ratio of the single rounds.
     pub ratio_min: f64,
-    /// See `ratio_min`.
     pub ratio_max: f64,
-    /// See `ratio_min`.
     pub ratio_median_rounds: f64,
-    /// `median_us − native_median_us`: what the mode adds to a step.
     pub delta_us: f64,
-    /// Heap allocations per measured step, all threads.
     pub allocs_per_step: f64,
-    /// Native's, in the same processes.
     pub native_allocs_per_step: f64,
-    /// The share of the allocations whose stacks lead to kimpact's code,
-    /// times `allocs_per_step` (NaN: not attributed).
     pub kimpact_allocs_per_step: f64,
-    /// Peak resident memory of a process running the mode alone.
     pub peak_rss_mib: f64,
-    /// Impacts the law resolved per measured step.
     pub impacts_per_step: f64,
-    /// Why a run of the row failed, if one did.
     pub error: Option<String>,
 }
 

@@ -149,35 +149,26 @@ pub struct ZEntry {
     pub r: ZResult,
 }
 
-/// How large and long every comparison is.
+/// How large and long every comparison is: the gases' balls, simulated
+/// time and checkpoints; the Z runs' measuring time (reference, rapier),
+/// equilibration (reference, rapier), least distance from the walls of the
+/// density's region, accessible box lengths (2D, 3D and the reference's
+/// larger 3D) and the reference's calibration time in each box; the
+/// cooling gas's time and checkpoints; the cost runs' time.
 pub struct Sizes {
-    /// Balls of the gases (statistics, cooling, cost).
     pub gas_n: usize,
-    /// Simulated time of the gas statistics.
     pub gas_t: f64,
-    /// Checkpoints of the gas statistics.
     pub gas_checkpoints: usize,
-    /// Reference Z runs: measuring time (time units).
     pub z_ref_t: f64,
-    /// rapier Z runs: measuring time.
     pub z_rapier_t: f64,
-    /// Z runs: equilibration of the reference and of rapier.
     pub z_eq: (f64, f64),
-    /// Z: the least distance from the walls beyond which density counts.
     pub w_min: f64,
-    /// Z: the accessible box lengths, 2D, 3D and the reference's larger 3D.
     pub ell2: V<2>,
-    /// See `ell2`.
     pub ell3: V<3>,
-    /// See `ell2`.
     pub ell3_large: V<3>,
-    /// Z: the reference's calibration time in each of those boxes.
     pub calibrate_t: [f64; 3],
-    /// Simulated time of the cooling gas.
     pub cooling_t: f64,
-    /// Checkpoints of the cooling gas.
     pub cooling_checkpoints: usize,
-    /// Simulated time of the cost runs.
     pub cost_t: f64,
 }
 

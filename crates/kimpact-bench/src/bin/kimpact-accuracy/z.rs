@@ -63,37 +63,30 @@ pub fn calibrate<const D: usize>(
     Ok(n)
 }
 
-/// What a Z run measured.
+/// What a Z run measured: its balls; the packing fraction away from the
+/// walls; Z with the walls' excess near their ends eliminated, and its
+/// standard error over the blocks; the naive Z (total wall force over the
+/// whole surface, nominal density N/V); the single-wall Z (force on the
+/// walls of axis 0 over their accessible area, bulk density) and its
+/// standard error; (w, bulk η, Z) for each distance from the walls; the
+/// relative change of kT; the impacts; ms per rapier step (NaN for the
+/// reference); the wall-impulse residual; why the run stopped early and
+/// what the simulator counted that is unusual.
 #[derive(Clone)]
 pub struct ZResult {
-    /// Balls.
     pub n: usize,
-    /// The packing fraction away from the walls.
     pub eta_bulk: f64,
-    /// Z, with the walls' excess near their ends eliminated.
     pub z: f64,
-    /// Standard error of `z` over the blocks.
     pub z_err: f64,
-    /// Total wall force over the whole box surface, nominal density N/V.
     pub z_naive: f64,
-    /// Force on the walls of axis 0 over their accessible area, bulk
-    /// density: no correction for the walls' excess near their ends.
     pub z_single: f64,
-    /// Standard error of `z_single`.
     pub z_single_err: f64,
-    /// (w, bulk η, Z) for every `W`.
     pub by_w: Vec<(f64, f64, f64)>,
-    /// Relative change of kT during the measurement.
     pub kt_drift: f64,
-    /// Impacts in all.
     pub impacts: u64,
-    /// Milliseconds per rapier step (NaN for the reference).
     pub ms_per_step: f64,
-    /// The wall-impulse residual.
     pub residual: f64,
-    /// Why the run stopped early, if it did.
     pub error: Option<HarnessError>,
-    /// What the simulator counted that is unusual.
     pub diagnostics: Option<String>,
 }
 

@@ -12,8 +12,8 @@
 //!   floor) and `energy_error` (without); one point per (scene, quantity,
 //!   mode).
 //! - **Modes**: every mode either side has for a joined scene must be on
-//!   both sides, in every quantity; a scene in neither file is left out
-//!   (with a note); the same key twice on one side is an error.
+//!   both sides, in every quantity; the same key twice on one side is an
+//!   error.
 //! - **Values**: a ×native, error or noise floor that is not a number (NaN,
 //!   infinite; `null` in the JSON) leaves its point out, with a note; a
 //!   ×native at or below 0, a negative error or noise floor is an error.
@@ -62,20 +62,15 @@ pub enum Level {
     Zero,
 }
 
-/// One joined (scene, quantity, mode).
+/// One joined (scene, quantity's label, mode): ×native from the bench,
+/// the error and its noise floor (when there is one) from the summary.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Point {
-    /// The scene.
     pub scene: &'static SceneRule,
-    /// The quantity's label.
     pub quantity: &'static str,
-    /// The mode.
     pub mode: Mode,
-    /// ×native from the bench.
     pub ratio: f64,
-    /// The error from the accuracy summary.
     pub error: f64,
-    /// Its noise floor, when the summary gives one.
     pub noise_floor: Option<f64>,
 }
 
@@ -90,24 +85,18 @@ impl Point {
     }
 }
 
-/// What the join gives.
+/// What the join gives: the points, by scene, quantity and mode, and those
+/// left out for a value that is not a number ("scene, quantity, mode: why").
 #[derive(Clone, Debug, PartialEq)]
 pub struct Join {
-    /// The points, by scene, quantity and mode (in the rules' orders).
     pub points: Vec<Point>,
-    /// The points left out for a value that is not a number, each as
-    /// "scene, quantity, mode: why".
     pub skipped: Vec<String>,
-    /// The scenes in neither file.
-    pub absent: Vec<&'static SceneRule>,
 }
 
 /// The bench's CSV and the accuracy summary, for the errors and notes.
 #[derive(Clone, Copy, Debug)]
 pub struct Files<'a> {
-    /// The bench's CSV.
     pub bench: &'a Path,
-    /// The accuracy summary.
     pub accuracy: &'a Path,
 }
 
@@ -142,7 +131,6 @@ pub fn join(
     let mut out = Join {
         points: vec![],
         skipped: vec![],
-        absent: vec![],
     };
     for scene in &SCENES {
         let (name, dim, scene_label) = *scene;
@@ -161,10 +149,6 @@ pub fn join(
             });
             let entries = entries.map(|(i, e)| (format!("errors[{i}]"), e, e.mode));
             errors.push((label, key, by_mode(entries, quantity, files.accuracy)?));
-        }
-        if costs.is_empty() && errors.iter().all(|e| e.2.is_empty()) {
-            out.absent.push(scene);
-            continue;
         }
         let modes: BTreeSet<Mode> = costs
             .keys()

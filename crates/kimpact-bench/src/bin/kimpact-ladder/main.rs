@@ -41,14 +41,12 @@ struct Args {
 }
 
 /// Why the ladder was not drawn (nothing is written then): the file at
-/// fault and what is wrong with it.
+/// fault (an input that cannot be read or breaks a rule of the join, an
+/// output that cannot be drawn or written) and what is wrong, and where.
 #[derive(Debug, thiserror::Error)]
 #[error("{}: {message}", path.display())]
 pub struct LadderError {
-    /// The file: an input that cannot be read or breaks a rule of the join,
-    /// or an output that cannot be drawn or written.
     pub path: PathBuf,
-    /// What is wrong, and where in the file.
     pub message: String,
 }
 

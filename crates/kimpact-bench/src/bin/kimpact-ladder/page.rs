@@ -75,17 +75,10 @@ pub fn markdown(
             "| {scene} | {q} | {m} | {r:.3} | {e:.2e} | {floor} | {drawn} |"
         );
     }
-    if !join.skipped.is_empty() || !join.absent.is_empty() {
+    if !join.skipped.is_empty() {
         md += "\n## Left out\n\n";
         for k in &join.skipped {
             let _ = writeln!(md, "- {k}.");
-        }
-        for a in &join.absent {
-            let (b, d, l) = **a;
-            let _ = writeln!(
-                md,
-                "- {l}: neither file has it (bench scene `{b}`, accuracy scene `gas` in {d}D)."
-            );
         }
     }
     md += "\nThe join's rules (which rows of each file meet, and what leaves a point out) are in `crates/kimpact-bench/src/bin/kimpact-ladder/join.rs`.\n";
