@@ -25,8 +25,8 @@ static ATTRIBUTING: AtomicBool = AtomicBool::new(false);
 static SEEN: AtomicU64 = AtomicU64::new(0);
 static OWN: AtomicU64 = AtomicU64::new(0);
 static TRACE_OWN: AtomicU64 = AtomicU64::new(0);
-/// Distinct stacks by frame addresses: whether kimpact's, the frames' paths
-/// (workspace, rapier, parry) and how many allocations had it.
+/// Distinct stacks by frame addresses: whether kimpact's, the frames'
+/// paths and how many allocations had it.
 type Stacks = HashMap<Box<[usize]>, (bool, Vec<String>, u64)>;
 static STACKS: Mutex<Option<Stacks>> = Mutex::new(None);
 /// Frames kept of a stack: enough to reach the pipeline's step.
@@ -67,15 +67,11 @@ fn sample() -> bool {
     let stacks = stacks.get_or_insert_with(HashMap::new);
     let entry = stacks.entry(ips[..len].into()).or_insert_with(|| {
         let paths = symbolize(&ips[..len]);
-        let own = kimpact_harness::is_kimpact(paths.iter().map(String::as_str));
-        let shown = paths
-            .into_iter()
-            .filter(|p| {
-                (p.contains("/crates/") || p.contains("/rapier") || p.contains("/parry"))
-                    && !p.contains("kimpact-bench/src/alloc")
-            })
-            .collect();
-        (own, shown, 0)
+        (
+            kimpact_harness::is_kimpact(paths.iter().map(String::as_str)),
+            paths,
+            0,
+        )
     });
     entry.2 += 1;
     if entry.0 {
