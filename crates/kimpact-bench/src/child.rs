@@ -19,11 +19,10 @@ pub struct Measure {
     pub impacts: u64,
 }
 
-/// A timing child: the scene's balls, native's measure and the mode's, in
-/// lockstep in one process.
+/// A timing child: native's measure and the mode's, in lockstep in one
+/// process.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Pair {
-    pub balls: usize,
     pub native: Measure,
     pub law: Measure,
 }

@@ -61,7 +61,6 @@ fn xy(x: Real, y: Real) -> Vector {
 pub struct Bench {
     world: PhysicsWorld,
     kimpact: Kimpact,
-    balls: Vec<RigidBodyHandle>,
     /// Kinematic bodies driven by the scene before each step.
     drives: Vec<Drive>,
     /// Simulated time, for the drives.
@@ -89,7 +88,6 @@ impl Bench {
         Self {
             world,
             kimpact: Kimpact::new(law, mode),
-            balls: Vec::new(),
             drives: Vec::new(),
             time: 0.0,
         }
@@ -102,10 +100,9 @@ impl Bench {
             .friction(material.0)
             .restitution(material.1);
         let collider = self.hooked_if_asked(collider);
-        let (b, c) = self.world.insert(body, collider);
+        let (_, c) = self.world.insert(body, collider);
         let marked = self.kimpact.mark(&self.world.colliders, c);
         marked.expect("inserted just above");
-        self.balls.push(b);
     }
 
     /// `collider`, hooked in native mode under `--hook-native`.
@@ -285,7 +282,6 @@ pub fn run(cli: &Cli) -> String {
 fn run_pair(cli: &Cli, build: impl Fn(Mode) -> Bench) -> Pair {
     let (mut mn, mut ml) = (Measure::default(), Measure::default());
     let block = cli.block.max(1);
-    let mut balls = 0;
     for _ in 0..cli.repeats.max(1) {
         let mut worlds = [(build(Mode::Native), &mut mn), (build(cli.mode[0]), &mut ml)];
         for _ in 0..cli.warmup {
@@ -304,9 +300,8 @@ fn run_pair(cli: &Cli, build: impl Fn(Mode) -> Bench) -> Pair {
             m.steps += cli.steps;
             m.impacts += w.kimpact.stats().impacts - before;
         }
-        balls = worlds[1].0.balls.len();
     }
-    Pair { balls, native: mn, law: ml }
+    Pair { native: mn, law: ml }
 }
 
 /// Memory: the mode alone, then the peak RSS; with `--attribute`, the same

@@ -29,14 +29,13 @@ impl Bench {
                 let body =
                     RigidBodyBuilder::dynamic().translation(xy(2.0 * x, 10.0 * (j as Real + 1.0)));
                 let collider = b.hooked_if_asked(ColliderBuilder::ball(rad).restitution(e));
-                let (h, c) = b.world.insert(body, collider);
+                let (_, c) = b.world.insert(body, collider);
                 let material = LawParams::from_restitution(e, 0.5 * (1.0 + e))
                     .and_then(k::Material::from_params)
                     .expect("restitutions in [0, 1]");
                 b.kimpact
                     .mark_with(&b.world.colliders, c, material)
                     .expect("inserted just above");
-                b.balls.push(h);
             }
         }
         b
