@@ -172,46 +172,39 @@ pub struct Sizes {
     pub cost_t: f64,
 }
 
-impl Sizes {
-    /// The published run.
-    pub fn full() -> Self {
-        Self {
-            gas_n: 200,
-            gas_t: 100.0,
-            gas_checkpoints: 100,
-            z_ref_t: 2000.0,
-            z_rapier_t: 100.0,
-            z_eq: (50.0, 10.0),
-            w_min: 3.5,
-            ell2: V::<2>::new(60.0, 30.0),
-            ell3: V::<3>::new(10.0, 10.0, 20.0),
-            ell3_large: V::<3>::new(14.0, 14.0, 28.0),
-            calibrate_t: [400.0, 100.0, 50.0],
-            cooling_t: 30.0,
-            cooling_checkpoints: 60,
-            cost_t: 10.0,
-        }
-    }
+/// `full`, or `quick` in a smoke run.
+fn pick<T>(quick: bool, full: T, smoke: T) -> T {
+    if quick { smoke } else { full }
+}
 
-    /// A smoke run: every comparison, on small scenes for short times.
-    pub fn quick() -> Self {
+impl Sizes {
+    /// The published run, or with `quick` a smoke run: every comparison on
+    /// small scenes for short times (the smallest boxes whose lattices still
+    /// hold the calibrated balls more than a diameter apart).
+    pub fn new(quick: bool) -> Self {
         Self {
-            gas_n: 50,
-            gas_t: 2.0,
-            gas_checkpoints: 20,
-            z_ref_t: 20.0,
-            z_rapier_t: 5.0,
-            z_eq: (2.0, 1.0),
-            w_min: 1.5,
-            // The smallest boxes whose lattices still hold the calibrated
-            // number of balls more than a diameter apart.
-            ell2: V::<2>::new(20.0, 10.0),
-            ell3: V::<3>::new(8.0, 8.0, 16.0),
-            ell3_large: V::<3>::new(9.0, 9.0, 18.0),
-            calibrate_t: [10.0, 10.0, 10.0],
-            cooling_t: 2.0,
-            cooling_checkpoints: 12,
-            cost_t: 0.5,
+            gas_n: pick(quick, 200, 50),
+            gas_t: pick(quick, 100.0, 2.0),
+            gas_checkpoints: pick(quick, 100, 20),
+            z_ref_t: pick(quick, 2000.0, 20.0),
+            z_rapier_t: pick(quick, 100.0, 5.0),
+            z_eq: pick(quick, (50.0, 10.0), (2.0, 1.0)),
+            w_min: pick(quick, 3.5, 1.5),
+            ell2: pick(quick, V::<2>::new(60.0, 30.0), V::<2>::new(20.0, 10.0)),
+            ell3: pick(
+                quick,
+                V::<3>::new(10.0, 10.0, 20.0),
+                V::<3>::new(8.0, 8.0, 16.0),
+            ),
+            ell3_large: pick(
+                quick,
+                V::<3>::new(14.0, 14.0, 28.0),
+                V::<3>::new(9.0, 9.0, 18.0),
+            ),
+            calibrate_t: pick(quick, [400.0, 100.0, 50.0], [10.0, 10.0, 10.0]),
+            cooling_t: pick(quick, 30.0, 2.0),
+            cooling_checkpoints: pick(quick, 60, 12),
+            cost_t: pick(quick, 10.0, 0.5),
         }
     }
 }

@@ -148,11 +148,7 @@ fn jobs<'a>(sizes: &'a Sizes) -> Result<Vec<Job<'a>>, HarnessError> {
 }
 
 fn run(args: &Args) -> Result<(), RunError> {
-    let sizes = if args.quick {
-        Sizes::quick()
-    } else {
-        Sizes::full()
-    };
+    let sizes = Sizes::new(args.quick);
     let sizes = &sizes;
     let started = Instant::now();
 
