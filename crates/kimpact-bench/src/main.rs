@@ -264,7 +264,7 @@ fn main() -> ExitCode {
     };
     let raw = report::Raw { header, groups };
     let json = serde_json::to_string(&raw).expect("the results serialize");
-    if let Err(e) = kimpact_harness::write_file(&cli.out.join("raw.json"), json.as_bytes()) {
+    if let Err(e) = kimpact_harness::write_files(&[(&cli.out.join("raw.json"), json.as_bytes())]) {
         eprintln!("{e}");
     }
     report::render(&cli.out, &raw)

@@ -55,14 +55,6 @@ pub fn write_files(files: &[(&Path, &[u8])]) -> Result<(), WriteError> {
     Ok(())
 }
 
-/// Write `contents` to `path` whole (see [`write_files`]).
-///
-/// # Errors
-/// [`WriteError`].
-pub fn write_file(path: &Path, contents: &[u8]) -> Result<(), WriteError> {
-    write_files(&[(path, contents)])
-}
-
 /// The machine and the compiler, for the header.
 pub fn machine() -> String {
     let cpu = std::fs::read_to_string("/proc/cpuinfo").ok().and_then(|c| {

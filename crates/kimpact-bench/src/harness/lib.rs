@@ -30,7 +30,7 @@ mod stats;
 
 pub use backend::{B2_F32, B2_F64, B3_F32, B3_F64, Backend};
 pub use error::HarnessError;
-pub use files::{WriteError, machine, write_file, write_files};
+pub use files::{WriteError, machine, write_files};
 pub use measure::{GasSeries, ShortResult, gas_series, kinetic, momentum, short_run};
 pub use method::Method;
 pub use plot::{Panel, color, svg};

@@ -60,8 +60,6 @@ struct Args {
 enum RunError {
     #[error(transparent)]
     Harness(#[from] HarnessError),
-    #[error("plot: {0}")]
-    Plot(String),
     #[error("{0}")]
     Output(String),
     #[error(transparent)]
@@ -205,7 +203,7 @@ fn run(args: &Args) -> Result<(), RunError> {
     let errors = all.errors;
 
     let svg = kimpact_harness::svg(&plot::panels(&points, sizes.gas_n), 3, (460, 320))
-        .map_err(RunError::Plot)?;
+        .map_err(|e| RunError::Output(format!("plot: {e}")))?;
     let summary = AccuracySummary {
         command: report::command(args.quick),
         quick: args.quick,
