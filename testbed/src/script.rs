@@ -170,25 +170,23 @@ pub struct WriteError {
     pub message: String,
 }
 
-/// Write `bytes` to `path` whole: into a temporary file beside it, then
-/// renamed over it.
+/// Write `bytes` to `path` whole: into a temporary file beside it
+/// (`tempfile`), then renamed over it (`NamedTempFile::persist`); on an
+/// error the temporary file is removed and `path` is left as it was.
 fn write_whole(path: &Path, bytes: &[u8]) -> Result<(), WriteError> {
+    use std::io::Write as _;
     let error = |message: String| WriteError {
         path: path.to_path_buf(),
         message,
     };
-    let name = path
-        .file_name()
-        .ok_or_else(|| error("not a file name".into()))?;
-    let mut temp_name = std::ffi::OsString::from(".");
-    temp_name.push(name);
-    temp_name.push(".tmp");
-    let temp = path.with_file_name(temp_name);
-    std::fs::write(&temp, bytes).map_err(|e| error(e.to_string()))?;
-    std::fs::rename(&temp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&temp);
-        error(e.to_string())
-    })
+    let folder = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let mut temp = tempfile::NamedTempFile::new_in(folder).map_err(|e| error(e.to_string()))?;
+    temp.write_all(bytes).map_err(|e| error(e.to_string()))?;
+    temp.persist(path).map_err(|e| error(e.error.to_string()))?;
+    Ok(())
 }
 
 /// Save `record` as JSON at `path`.

@@ -1,9 +1,6 @@
-// The bench scenes and one measured run, written once for 2D/3D and f32/f64:
-// included into modules that alias the adapter crate as `k` (see main.rs).
-// Native and the law modes run through exactly this code; only the `Mode`
-// given to `Kimpact::new` differs.
-
-use std::time::Instant;
+// The bench scenes and the child's runs, once for 2D/3D and f32/f64
+// (included where `k` is an adapter crate); native and the law modes run
+// the same code, only the `Mode` differs.
 
 use k::math::{DIM, Real, Vector};
 use k::rapier::math::AngVector;
@@ -12,10 +9,10 @@ use k::{Kimpact, Law, LawParams, Mode};
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
 
-use crate::{AboutZ, Measure, Pair, Scene, Setup, Solo, Timing, alloc, memory};
+use crate::child::{Measure, Pair, Solo};
+use crate::{AboutZ, Cli, Scene, alloc, memory};
 
-/// A vector with components uniform in `[-speed, speed)`, from the scene's
-/// seeded generator (the same sequence in every mode).
+/// A vector with components uniform in `[-speed, speed)`.
 fn random_vector(rng: &mut Xoshiro256PlusPlus, speed: Real) -> Vector {
     let mut v = Vector::ZERO;
     for axis in 0..DIM {
@@ -33,8 +30,7 @@ fn per_side(n: usize) -> usize {
     side
 }
 
-/// Grid cell `i` of a `side`-per-axis grid of pitch `spacing` centred at the
-/// origin.
+/// Cell `i` of a `side`-per-axis grid of pitch `spacing` about the origin.
 fn grid_point(i: usize, side: usize, spacing: Real) -> Vector {
     let half = 0.5 * spacing * side as Real;
     let mut p = Vector::ZERO;
@@ -46,38 +42,33 @@ fn grid_point(i: usize, side: usize, spacing: Real) -> Vector {
     p
 }
 
-#[derive(Copy, Clone)]
-struct Material {
-    friction: Real,
-    restitution: Real,
+/// A cuboid collider of half-extents `he`, in either dimension.
+fn cuboid(he: Vector) -> ColliderBuilder {
+    ColliderBuilder::new(SharedShape::new(k::rapier::parry::shape::Cuboid::new(he)))
+}
+
+/// A collider's friction and restitution.
+type Material = (Real, Real);
+
+/// A point of the xy plane (z = 0 in 3D).
+fn xy(x: Real, y: Real) -> Vector {
+    let mut p = Vector::ZERO;
+    (p[0], p[1]) = (x, y);
+    p
 }
 
 /// One scene, ready to step.
 pub struct Bench {
     world: PhysicsWorld,
     kimpact: Kimpact,
-    balls: Vec<RigidBodyHandle>,
-    /// The region the balls stay in (a ball further than `slack` out of it
-    /// has escaped).
-    lo: Vector,
-    hi: Vector,
-    slack: Real,
-    /// The height potential energy is measured from.
-    floor: Real,
     /// Kinematic bodies driven by the scene before each step.
     drives: Vec<Drive>,
     /// Simulated time, for the drives.
     time: Real,
-    /// Whether the user reads kimpact's impact events after each step (the
-    /// effects table's "events").
-    read_events: bool,
-    /// What reading them found (kept so that the read is not optimized out).
-    events_read: Real,
 }
 
-/// A kinematic body swung about its origin at a periodic angular velocity
-/// `sign · amplitude · (2π/period) · sin(2π t/period)`: from its starting
-/// angle, it turns by `sign · amplitude · (1 − cos(2π t/period))`.
+/// A kinematic body swung at the angular velocity
+/// `sign · amplitude · (2π/period) · sin(2π t/period)`.
 struct Drive {
     body: RigidBodyHandle,
     amplitude: Real,
@@ -96,67 +87,25 @@ impl Bench {
         .expect("valid law parameters");
         Self {
             world,
-            kimpact: Kimpact::with_config(
-                law,
-                mode,
-                k::Config {
-                    calm_neighbourhoods: !crate::no_calm(),
-                    ..Default::default()
-                },
-            )
-            .expect("the default configuration with calm_neighbourhoods set is valid"),
-            balls: Vec::new(),
-            lo: Vector::ZERO,
-            hi: Vector::ZERO,
-            slack: 1.0,
-            floor: 0.0,
+            kimpact: Kimpact::new(law, mode),
             drives: Vec::new(),
             time: 0.0,
-            read_events: false,
-            events_read: 0.0,
         }
     }
 
     /// A marked ball.
-    fn ball(
-        &mut self,
-        body: RigidBodyBuilder,
-        radius: Real,
-        mass: Real,
-        material: Material,
-    ) -> RigidBodyHandle {
-        self.ball_with(body, radius, mass, material, None)
-    }
-
-    /// A marked ball, with its own law parameters when `law` is given
-    /// (`Kimpact::mark_with`).
-    fn ball_with(
-        &mut self,
-        body: RigidBodyBuilder,
-        radius: Real,
-        mass: Real,
-        material: Material,
-        law: Option<k::Material>,
-    ) -> RigidBodyHandle {
+    fn ball(&mut self, body: RigidBodyBuilder, radius: Real, mass: Real, material: Material) {
         let collider = ColliderBuilder::ball(radius)
             .mass(mass)
-            .friction(material.friction)
-            .restitution(material.restitution);
+            .friction(material.0)
+            .restitution(material.1);
         let collider = self.hooked_if_asked(collider);
-        let (b, c) = self.world.insert(body, collider);
-        let colliders = &self.world.colliders;
-        match law {
-            Some(law) => self.kimpact.mark_with(colliders, c, law),
-            None => self.kimpact.mark(colliders, c),
-        }
-        .expect("inserted just above");
-        self.balls.push(b);
-        b
+        let (_, c) = self.world.insert(body, collider);
+        let marked = self.kimpact.mark(&self.world.colliders, c);
+        marked.expect("inserted just above");
     }
 
-    /// `collider` with rapier's contact-modification hook flag in native
-    /// mode under `--hook-native` (see [`crate::hook_native`]), as it is
-    /// otherwise.
+    /// `collider`, hooked in native mode under `--hook-native`.
     pub(crate) fn hooked_if_asked(&self, collider: ColliderBuilder) -> ColliderBuilder {
         if self.kimpact.mode() == Mode::Native && crate::hook_native() {
             collider.active_hooks(ActiveHooks::MODIFY_SOLVER_CONTACTS)
@@ -165,10 +114,8 @@ impl Bench {
         }
     }
 
-    /// A closed box of inner half-extents `half` centred at the origin, made
-    /// of fixed, unmarked walls (they meet the law as fixed partners).
+    /// A closed box of fixed walls, inner half-extents `half`.
     fn closed_box(&mut self, half: Vector, thickness: Real, material: Material) {
-        (self.lo, self.hi, self.floor) = (-half, half, -half[1]);
         let t = thickness;
         for axis in 0..DIM {
             for sign in [-1.0, 1.0] {
@@ -179,39 +126,23 @@ impl Bench {
                 let b = self
                     .world
                     .insert_body(RigidBodyBuilder::fixed().translation(center));
-                let collider = k::math::cuboid(he)
-                    .friction(material.friction)
-                    .restitution(material.restitution);
+                let collider = cuboid(he)
+                    .friction(material.0)
+                    .restitution(material.1);
                 self.world.insert_collider(collider, Some(b));
             }
         }
     }
 
-    /// Build what `setup` asks for: a configuration of the effects table,
-    /// or its scene; `None` when the scene is not of this module's
-    /// dimension.
-    pub fn setup(setup: Setup) -> Option<Self> {
-        match setup.effect {
-            Some(effect) => Self::effect(effect, setup.scene, setup.balls, setup.mode),
-            None => Self::build(setup.scene, setup.balls, setup.mode),
-        }
-    }
-
-    /// Build `scene` with (about) `balls` balls, or `None` when the scene is
-    /// not of this module's dimension.
-    pub fn build(scene: Scene, balls: usize, mode: Mode) -> Option<Self> {
-        if scene.dim() != DIM {
-            return None;
-        }
+    /// `scene` with (about) `balls` balls in `mode` (of this module's
+    /// dimension).
+    pub fn setup(scene: Scene, balls: usize, mode: Mode) -> Self {
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(42);
-        let bench = match scene {
+        match scene {
             Scene::Pit2d | Scene::Pit3d => {
                 // Mixed masses dropped on a grid filling a closed box.
                 let mut b = Self::new(mode, 0.09, -Vector::Y * 9.81);
-                let material = Material {
-                    friction: 0.3,
-                    restitution: 0.5,
-                };
+                let material = (0.3, 0.5);
                 let (r, spacing) = (0.25, 0.8);
                 let side = per_side(balls);
                 b.closed_box(Vector::splat(0.5 * spacing * side as Real), 0.5, material);
@@ -224,13 +155,9 @@ impl Bench {
                 b
             }
             Scene::Gas2d | Scene::Gas3d => {
-                // Elastic balls in a closed box, no gravity, no sleeping; the
-                // density of the 500-ball gas of the adapter tests.
+                // The density of the adapter tests' 500-ball gas.
                 let mut b = Self::new(mode, 0.0, Vector::ZERO);
-                let material = Material {
-                    friction: 0.0,
-                    restitution: 1.0,
-                };
+                let material = (0.0, 1.0);
                 let r = 0.5;
                 let half = if DIM == 2 {
                     22.0 * (balls as f64 / 500.0).sqrt()
@@ -251,42 +178,26 @@ impl Bench {
                 b
             }
             Scene::Billiards => {
-                // A pool table seen from above: 15 racked balls and the cue
-                // ball, cloth as linear damping, CCD on (a ball moves more
-                // than its diameter per step at break speed).
+                // 15 racked balls and the cue ball, cloth as damping, CCD.
                 let mut b = Self::new(mode, 0.012, Vector::ZERO);
-                let ball = Material {
-                    friction: 0.0,
-                    restitution: 0.95,
-                };
-                let cushion = Material {
-                    friction: 0.0,
-                    restitution: 0.9,
-                };
+                let ball = (0.0, 0.95);
+                let cushion = (0.0, 0.9);
                 let (r, m) = (0.028575, 0.17);
-                let mut half = Vector::ZERO;
-                half[0] = 1.27;
-                half[1] = 0.635;
-                b.closed_box(half, 0.05, cushion);
+                b.closed_box(xy(1.27, 0.635), 0.05, cushion);
                 let gap = 2.0 * r * 1.0005;
                 let foot = 0.635;
                 for row in 0..5 {
                     for j in 0..=row {
-                        let mut p = Vector::ZERO;
-                        p[0] = foot + row as Real * gap * 0.8660254;
-                        p[1] = (j as Real - 0.5 * row as Real) * gap;
+                        let (x, y) = (row as Real * gap * 0.8660254, (j as Real - 0.5 * row as Real) * gap);
                         let body = RigidBodyBuilder::dynamic()
-                            .translation(p)
+                            .translation(xy(foot + x, y))
                             .linear_damping(0.3)
                             .ccd_enabled(true);
                         b.ball(body, r, m, ball);
                     }
                 }
-                let mut p = Vector::ZERO;
-                p[0] = -foot;
-                p[1] = 0.002;
                 let body = RigidBodyBuilder::dynamic()
-                    .translation(p)
+                    .translation(xy(-foot, 0.002))
                     .linvel(Vector::X * 6.0)
                     .linear_damping(0.3)
                     .ccd_enabled(true);
@@ -294,18 +205,10 @@ impl Bench {
                 b
             }
             Scene::Cue => {
-                // One heavy cue ball crossing a grid of `balls` resting
-                // balls, no gravity; it clips the row below its lane every
-                // 2 m, and the balls it knocks are damped back to rest. The
-                // resting balls never sleep: rapier steps all of them, and
-                // kimpact must not add more than a few percent for the one
-                // body that needs the law (asleep, a step costs microseconds
-                // in every mode).
+                // A heavy cue ball through a grid of resting, damped, awake
+                // balls, clipping one every 2 m.
                 let mut b = Self::new(mode, 0.0, Vector::ZERO);
-                let material = Material {
-                    friction: 0.0,
-                    restitution: 1.0,
-                };
+                let material = (0.0, 1.0);
                 let (r, spacing) = (0.5, 2.0);
                 let side = per_side(balls);
                 let grid_half = 0.5 * spacing * side as Real;
@@ -318,11 +221,8 @@ impl Bench {
                     b.ball(body, r, 1.0, material);
                 }
                 let row = grid_point(side / 2 * side, side, spacing)[1];
-                let mut p = Vector::ZERO;
-                p[0] = -grid_half - 2.0;
-                p[1] = row + 0.8;
                 let body = RigidBodyBuilder::dynamic()
-                    .translation(p)
+                    .translation(xy(-grid_half - 2.0, row + 0.8))
                     .linvel(Vector::X * 5.0)
                     .can_sleep(false);
                 b.ball(body, r, 10.0, material);
@@ -330,13 +230,11 @@ impl Bench {
             }
             Scene::Restitution3 | Scene::Restitution2 => Self::restitution(mode),
             Scene::Pinball => Self::pinball(mode, &mut rng),
-        };
-        Some(bench)
+        }
     }
 
     /// One step through kimpact (`Mode::Native` too: identical code path),
-    /// after driving the kinematic bodies; with `read_events`, the user's
-    /// read of kimpact's impact events after it.
+    /// after driving the kinematic bodies.
     pub fn step(&mut self) {
         let tau = std::f64::consts::TAU as Real;
         for d in &self.drives {
@@ -347,209 +245,85 @@ impl Bench {
         }
         self.kimpact.step_world(&mut self.world, &(), &());
         self.time += self.world.integration_parameters.dt;
-        if self.read_events {
-            let mut sum = 0.0;
-            for e in self.kimpact.events() {
-                sum += e.impulse + e.dissipated;
-            }
-            self.events_read += std::hint::black_box(sum);
-        }
-    }
-
-    /// Kinetic plus potential energy (from the floor), f64.
-    pub fn energy(&self) -> f64 {
-        let g = f64::from(self.world.gravity.length());
-        let floor = -f64::from(self.floor);
-        self.world
-            .bodies
-            .iter()
-            .filter(|(_, b)| b.is_dynamic())
-            .map(|(_, b)| {
-                let m = f64::from(b.mass());
-                let v2 = f64::from(b.linvel().length_squared());
-                0.5 * m * v2 + m * g * (f64::from(b.translation()[1]) + floor)
-            })
-            .sum()
-    }
-
-    /// Balls with a non-finite position or velocity.
-    pub fn non_finite(&self) -> usize {
-        self.balls
-            .iter()
-            .filter(|&&h| {
-                let b = &self.world.bodies[h];
-                !(b.translation().is_finite() && b.linvel().is_finite())
-            })
-            .count()
-    }
-
-    /// Balls outside the box (by more than a ball radius of slack).
-    pub fn escaped(&self) -> usize {
-        let slack = self.slack;
-        self.balls
-            .iter()
-            .filter(|&&h| {
-                let p = self.world.bodies[h].translation();
-                (0..DIM).any(|a| {
-                    p[a].is_nan() || p[a] < self.lo[a] - slack || p[a] > self.hi[a] + slack
-                })
-            })
-            .count()
-    }
-
-    /// Awake dynamic bodies.
-    pub fn awake(&self) -> usize {
-        self.world
-            .islands
-            .active_bodies()
-            .filter(|&h| self.world.bodies.get(h).is_some_and(|b| b.is_dynamic()))
-            .count()
     }
 }
 
-/// Time, CPU time and allocations of `n` measured steps, appended to `m`:
-/// one sample per step, or with `whole` one sample for the block (its time
-/// over `n`), so that a step of a few microseconds is not lost in the
-/// clock's own cost.
+/// CPU time and allocations of `n` measured steps into `m`: a sample per
+/// step, or with `whole` one per block (a step of microseconds is too short
+/// to time alone).
 fn measured_block(bench: &mut Bench, n: usize, whole: bool, m: &mut Measure) {
     let per_sample = if whole { n } else { 1 };
     for _ in 0..n / per_sample {
-        let (count0, bytes0) = alloc::snapshot();
-        let t = Instant::now();
-        let c = memory::process_cpu_us();
+        let (count, cpu) = (alloc::count(), memory::process_cpu_us());
         for _ in 0..per_sample {
             bench.step();
         }
-        let cpu = memory::process_cpu_us() - c;
-        let wall = t.elapsed().as_secs_f64() * 1e6;
-        let (count1, bytes1) = alloc::snapshot();
-        m.times_us.push(wall / per_sample as f64);
+        let cpu = memory::process_cpu_us() - cpu;
+        m.allocs += alloc::count() - count;
         m.cpu_us.push(cpu / per_sample as f64);
-        m.allocs += count1 - count0;
-        m.alloc_bytes += bytes1 - bytes0;
     }
 }
 
-/// Record the state before an episode's measured steps.
-fn start_episode(bench: &Bench, m: &mut Measure, first: bool) -> k::Stats {
-    if first {
-        m.energy_start = bench.energy();
-    }
-    bench.kimpact.stats()
-}
-
-/// Add what an episode's measured steps did to the scene.
-fn finish_episode(bench: &Bench, m: &mut Measure, stats0: k::Stats, steps: usize) {
-    let stats1 = bench.kimpact.stats();
-    m.steps += steps;
-    m.impacts += stats1.impacts - stats0.impacts;
-    m.cap_hits += stats1.event_cap_hits - stats0.event_cap_hits;
-    m.skipped += stats1.skipped_non_finite - stats0.skipped_non_finite;
-    m.energy_end = bench.energy();
-    m.non_finite = m.non_finite.max(bench.non_finite());
-    m.escaped = m.escaped.max(bench.escaped());
-    m.awake_end = bench.awake();
-}
-
-/// Timing: native rapier and the mode on two copies of what `setup` builds,
-/// in this process, in lockstep: per episode, both built, warmed up, then
-/// `steps` measured steps each, alternated in blocks (native's block, then
-/// the mode's), so that whatever else the machine does hits both alike.
-pub fn run_pair(setup: Setup, timing: Timing) -> Option<Pair> {
-    let samples = timing.steps * timing.repeats.max(1);
-    let new_measure = || Measure {
-        times_us: Vec::with_capacity(samples),
-        cpu_us: Vec::with_capacity(samples),
-        ..Measure::default()
+/// In a child: the timing pair (`--pair`) or the mode alone (`--solo`)
+/// that `cli` asks for, as JSON.
+pub fn run(cli: &Cli) -> String {
+    let (scene, balls, mode) = (cli.scene[0], cli.balls[0], cli.mode[0]);
+    let build = |mode| Bench::setup(scene, balls, mode);
+    let json = match cli.pair {
+        true => serde_json::to_string(&run_pair(cli, build)),
+        false => serde_json::to_string(&run_solo(cli, || build(mode))),
     };
-    let (mut mn, mut ml) = (new_measure(), new_measure());
-    let block = timing.block.max(1);
-    let mut balls = 0;
-    for episode in 0..timing.repeats.max(1) {
-        let mut native = Bench::setup(Setup {
-            mode: Mode::Native,
-            ..setup
-        })?;
-        let mut law = Bench::setup(setup)?;
-        for _ in 0..timing.warmup {
-            native.step();
-            law.step();
+    json.expect("a measure serializes")
+}
+
+/// Timing: native and `cli`'s mode on two copies of its scene (`build`),
+/// per episode warmed up, then measured in alternating blocks, so that the
+/// machine's drift hits both alike.
+fn run_pair(cli: &Cli, build: impl Fn(Mode) -> Bench) -> Pair {
+    let (mut mn, mut ml) = (Measure::default(), Measure::default());
+    let block = cli.block.max(1);
+    for _ in 0..cli.repeats.max(1) {
+        let mut worlds = [(build(Mode::Native), &mut mn), (build(cli.mode[0]), &mut ml)];
+        for _ in 0..cli.warmup {
+            worlds.iter_mut().for_each(|(w, _)| w.step());
         }
-        let sn = start_episode(&native, &mut mn, episode == 0);
-        let sl = start_episode(&law, &mut ml, episode == 0);
+        let before = worlds.each_ref().map(|(w, _)| w.kimpact.stats().impacts);
         let mut done = 0;
-        while done < timing.steps {
-            let n = block.min(timing.steps - done);
-            measured_block(&mut native, n, timing.time_blocks, &mut mn);
-            measured_block(&mut law, n, timing.time_blocks, &mut ml);
+        while done < cli.steps {
+            let n = block.min(cli.steps - done);
+            for (w, m) in &mut worlds {
+                measured_block(w, n, cli.time_blocks, m);
+            }
             done += n;
         }
-        finish_episode(&native, &mut mn, sn, timing.steps);
-        finish_episode(&law, &mut ml, sl, timing.steps);
-        balls = law.balls.len();
+        for ((w, m), before) in worlds.iter_mut().zip(before) {
+            m.steps += cli.steps;
+            m.impacts += w.kimpact.stats().impacts - before;
+        }
     }
-    Some(Pair {
-        scene: setup.scene,
-        balls,
-        mode: setup.mode,
-        precision: k::math::PRECISION,
-        parallel: cfg!(feature = "parallel"),
-        warmup: timing.warmup,
-        block,
-        time_blocks: timing.time_blocks,
-        repeats: timing.repeats.max(1),
-        effect: setup.effect,
-        native: mn,
-        law: ml,
-    })
+    Pair { native: mn, law: ml }
 }
 
-/// Memory and attribution: the mode alone in this process (untimed):
-/// warm-up and `steps` steps, then the peak RSS. With `attribute`, the same
-/// again (serial rapier is deterministic), classifying every allocation of
-/// the measured steps as kimpact's or rapier's from its stack (after the
-/// RSS is read: symbolizing takes memory).
-pub fn run_solo(setup: Setup, warmup: usize, steps: usize, attribute: bool) -> Option<Solo> {
-    let mut bench = Bench::setup(setup)?;
-    for _ in 0..warmup {
-        bench.step();
-    }
-    let (count0, _) = alloc::snapshot();
-    for _ in 0..steps {
-        bench.step();
-    }
-    let (count1, _) = alloc::snapshot();
-    let peak_rss_kib = memory::peak_rss_kib();
-    let mut solo = Solo {
-        scene: setup.scene,
-        balls: bench.balls.len(),
-        mode: setup.mode,
-        precision: k::math::PRECISION,
-        steps,
-        effect: setup.effect,
-        allocs: count1 - count0,
-        peak_rss_kib,
-        attributed: false,
-        attr_seen: 0,
-        attr_sampled: 0,
-        attr_own: 0,
-        attr_stacks: 0,
+/// Memory: the mode alone, then the peak RSS; with `--attribute`, the same
+/// steps again (serial rapier is deterministic) with every allocation
+/// attributed (after the RSS is read: symbolizing takes memory).
+fn run_solo(cli: &Cli, build: impl Fn() -> Bench) -> Solo {
+    let warmed = || {
+        let mut bench = build();
+        (0..cli.warmup).for_each(|_| bench.step());
+        bench
     };
-    if attribute {
-        drop(bench);
-        let mut again = Bench::setup(setup)?;
-        for _ in 0..warmup {
-            again.step();
-        }
+    let mut bench = warmed();
+    let count = alloc::count();
+    (0..cli.steps).for_each(|_| bench.step());
+    let allocs = alloc::count() - count;
+    let peak_rss_kib = memory::peak_rss_kib();
+    drop(bench);
+    let attributed = cli.attribute.then(|| {
+        let mut again = warmed();
         alloc::attribute();
-        for _ in 0..steps {
-            again.step();
-        }
-        (solo.attr_seen, solo.attr_own, solo.attr_stacks) = alloc::stop_attribute();
-        // Every allocation is classified (the field is kept for earlier
-        // runs' raw.json, which sampled about 1,000).
-        solo.attr_sampled = solo.attr_seen;
-        solo.attributed = true;
-    }
-    Some(solo)
+        (0..cli.steps).for_each(|_| again.step());
+        alloc::stop_attribute()
+    });
+    Solo { allocs, peak_rss_kib, attributed }
 }

@@ -2,14 +2,6 @@
 // kimpact's fixed cost per step shows): rapier's own restitution example and
 // a pinball table. Included after scene.rs into the same modules.
 
-/// A point of the xy plane (z = 0 in 3D).
-fn xy(x: Real, y: Real) -> Vector {
-    let mut p = Vector::ZERO;
-    p[0] = x;
-    p[1] = y;
-    p
-}
-
 impl Bench {
     /// rapier's examples3d/restitution3.rs (examples2d/restitution2.rs in
     /// 2D), as it is there: a fixed floor (half-extents 20 × 1 × 2, top at
@@ -28,7 +20,7 @@ impl Bench {
         he[1] = ground_height;
         let floor = RigidBodyBuilder::fixed().translation(-Vector::Y * ground_height);
         b.world
-            .insert(floor, k::math::cuboid(he).restitution(1.0));
+            .insert(floor, cuboid(he).restitution(1.0));
         let (num, rad) = (10usize, 0.5);
         for j in 0..2 {
             for i in 0..=num {
@@ -37,23 +29,15 @@ impl Bench {
                 let body =
                     RigidBodyBuilder::dynamic().translation(xy(2.0 * x, 10.0 * (j as Real + 1.0)));
                 let collider = b.hooked_if_asked(ColliderBuilder::ball(rad).restitution(e));
-                let (h, c) = b.world.insert(body, collider);
+                let (_, c) = b.world.insert(body, collider);
                 let material = LawParams::from_restitution(e, 0.5 * (1.0 + e))
                     .and_then(k::Material::from_params)
                     .expect("restitutions in [0, 1]");
                 b.kimpact
                     .mark_with(&b.world.colliders, c, material)
                     .expect("inserted just above");
-                b.balls.push(h);
             }
         }
-        b.lo = xy(-ground_size, 0.0);
-        b.hi = xy(ground_size, 25.0);
-        for axis in (0..DIM).skip(2) {
-            (b.lo[axis], b.hi[axis]) = (-he[axis], he[axis]);
-        }
-        b.slack = rad;
-        b.floor = 0.0;
         b
     }
 
@@ -76,14 +60,8 @@ impl Bench {
         b.kimpact
             .set_law(params)
             .expect("from_restitution gives a valid law");
-        let wall = Material {
-            friction: 0.1,
-            restitution: 0.6,
-        };
-        let ball = Material {
-            friction: 0.1,
-            restitution: 0.8,
-        };
+        let wall = (0.1, 0.6);
+        let ball = (0.1, 0.8);
         let (half_w, top) = (0.25, 1.0);
         let (pivot_x, pivot_y) = (0.1, 0.12);
         let mut outline = vec![
@@ -107,13 +85,13 @@ impl Bench {
         ]);
         let table = b.world.insert_body(RigidBodyBuilder::fixed());
         let collider = ColliderBuilder::polyline(outline, None)
-            .friction(wall.friction)
-            .restitution(wall.restitution);
+            .friction(wall.0)
+            .restitution(wall.1);
         b.world.insert_collider(collider, Some(table));
         for (x, y) in [(-0.08, 0.62), (0.08, 0.62), (0.0, 0.74)] {
             let bumper = RigidBodyBuilder::fixed().translation(xy(x, y));
             let collider = ColliderBuilder::ball(0.025)
-                .friction(wall.friction)
+                .friction(wall.0)
                 .restitution(0.9);
             b.world.insert(bumper, collider);
         }
@@ -126,10 +104,10 @@ impl Bench {
             let body = RigidBodyBuilder::kinematic_velocity_based()
                 .translation(xy(side * (pivot_x - 0.005), pivot_y + 0.005))
                 .rotation(AngVector::about_z(side * rest));
-            let collider = k::math::cuboid(bar)
+            let collider = cuboid(bar)
                 .translation(xy(-side * 0.5 * length, 0.0))
-                .friction(wall.friction)
-                .restitution(wall.restitution);
+                .friction(wall.0)
+                .restitution(wall.1);
             let (h, _) = b.world.insert(body, collider);
             b.drives.push(Drive {
                 body: h,
@@ -151,12 +129,6 @@ impl Bench {
                 .can_sleep(false);
             b.ball(body, 0.0135, 0.08, ball);
         }
-        (b.lo, b.hi) = (xy(-half_w, 0.0), xy(half_w, top));
-        for axis in (0..DIM).skip(2) {
-            (b.lo[axis], b.hi[axis]) = (-0.1, 0.1);
-        }
-        b.slack = 0.02;
-        b.floor = 0.0;
         b
     }
 }

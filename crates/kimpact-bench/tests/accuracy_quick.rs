@@ -121,13 +121,4 @@ fn quick_run_writes_every_file_with_finite_errors_and_keeps_the_findings() {
             "{scene}: not every mode in both precisions"
         );
     }
-    let costs = summary["costs"].as_array().unwrap();
-    assert_eq!(costs.len(), 4 * 4 * 4, "4 builds × 4 modes × 4 time steps");
-    for row in costs {
-        let cost = row["cpu_s_per_sim_s"].as_f64();
-        assert!(
-            cost.is_some_and(|c| c.is_finite() && c > 0.0),
-            "bad cost: {row}"
-        );
-    }
 }

@@ -3,27 +3,17 @@
 //! the measured steps classified from its stack as kimpact's or rapier's):
 //! none is kimpact's once a small pile has settled, while the first steps,
 //! in which kimpact's scratch lists grow, are seen as kimpact's; the same
-//! once rapier's restitution example has landed, and in two configurations
-//! of the effects table. Counts, not timings.
+//! once rapier's restitution example (every ball marked with its own
+//! material) has landed, and in the pinball's steady state. Counts, not
+//! timings.
 
 mod common;
 
 /// `kimpact-bench --solo --attribute` on one configuration: (allocations of
 /// the measured steps, and of the attributed pass: classified, kimpact's).
 fn attribute(scene: &str, mode: &str, warmup: usize, steps: usize) -> (u64, u64, u64) {
-    attribute_with(scene, mode, warmup, steps, &[])
-}
-
-/// As [`attribute`], with more arguments.
-fn attribute_with(
-    scene: &str,
-    mode: &str,
-    warmup: usize,
-    steps: usize,
-    more: &[&str],
-) -> (u64, u64, u64) {
     let (warmup, steps) = (warmup.to_string(), steps.to_string());
-    let mut args = vec![
+    let args = vec![
         "--solo",
         "--attribute",
         "--scene",
@@ -39,12 +29,14 @@ fn attribute_with(
         "--steps",
         &steps,
     ];
-    args.extend_from_slice(more);
     let stdout = common::run_bench(args);
     let solo: serde_json::Value = serde_json::from_str(stdout.trim()).expect("one JSON line");
-    assert_eq!(solo["attributed"], true, "{solo}");
-    let field = |name: &str| solo[name].as_u64().expect(name);
-    (field("allocs"), field("attr_seen"), field("attr_own"))
+    let (seen, own) = (&solo["attributed"][0], &solo["attributed"][1]);
+    let count = |v: &serde_json::Value| {
+        v.as_u64()
+            .unwrap_or_else(|| panic!("not attributed: {solo}"))
+    };
+    (count(&solo["allocs"]), count(seen), count(own))
 }
 
 #[test]
@@ -88,26 +80,5 @@ fn kimpact_allocates_nothing_in_the_pinball_s_steady_state() {
         assert!(seen > 0, "{mode}: no allocation seen");
         assert_eq!(seen, allocs, "{mode}: every allocation classified");
         assert_eq!(own, 0, "{mode}: {own} of {seen} allocations are kimpact's");
-    }
-}
-
-#[test]
-fn reading_events_and_materials_allocate_nothing_in_kimpact() {
-    // Two configurations of the effects table (the 1,000-ball 3D gas base,
-    // each with one effect on): the user reading every impact event, and
-    // every ball marked with its own material.
-    for effect in ["events", "materials"] {
-        for mode in ["restitution", "impulse", "exact"] {
-            let (allocs, seen, own) = attribute_with("gas3d", mode, 300, 30, &["--effect", effect]);
-            assert!(seen > 0, "{effect}, {mode}: no allocation seen");
-            assert_eq!(
-                seen, allocs,
-                "{effect}, {mode}: every allocation classified"
-            );
-            assert_eq!(
-                own, 0,
-                "{effect}, {mode}: {own} of {seen} allocations are kimpact's"
-            );
-        }
     }
 }

@@ -1,17 +1,17 @@
-//! `kimpact-ladder --plot-only` on small fixtures written to a temporary
-//! folder: the plot holds one point (one `<circle>`) per joined (scene,
-//! quantity, mode), the page the joined table; a NaN leaves its points out
-//! with a note; a missing column, file or mode fails with a message naming
-//! it and leaves existing outputs as they were; a run without its sibling
-//! programs, or with one that fails, says which.
+//! `kimpact-ladder` on small fixtures written to a temporary folder with
+//! the types the bench and the accuracy study write ([`BenchRow`],
+//! [`AccuracySummary`]): the plot holds one point (one `<circle>`) per
+//! joined (scene, quantity, mode), the page the joined table; a NaN leaves
+//! its points out with a note; a missing column, file, field or mode, or an
+//! unreadable number, fails with a message naming it and leaves existing
+//! outputs as they were.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use serde_json::{Value, json};
-
-/// The modes, cheapest first.
-const MODES: [&str; 4] = ["native", "restitution", "impulse", "exact"];
+use kimpact::{Mode, Precision};
+use kimpact_harness::{AccuracySummary, BenchRow, ErrorRow};
+use serde_json::Value;
 
 /// A fresh folder for one test.
 fn folder(name: &str) -> PathBuf {
@@ -29,23 +29,68 @@ const RATIOS: [(&str, usize, [f64; 4]); 2] = [
     ("gas3d", 3, [1.0, 1.14, 1.11, 1.33]),
 ];
 
-/// A bench CSV: the joined rows, with `ratio` and `error` of
-/// (scene, mode) changed by `edit`, and rows the join must ignore (other
-/// scenes, balls, precisions). Its columns in another order than the
-/// bench's, and one more.
-fn bench_csv(edit: impl Fn(&str, &str) -> Option<(String, String)>) -> String {
-    let mut s = "mode,scene,dim,precision,parallel,balls,rounds,median_us,ratio,error\n".to_owned();
+/// A bench row as the bench writes it.
+fn row(
+    scene: &str,
+    dim: usize,
+    precision: Precision,
+    balls: usize,
+    mode: Mode,
+    ratio: f64,
+) -> BenchRow {
+    BenchRow {
+        scene: scene.to_owned(),
+        dim,
+        precision,
+        parallel: false,
+        balls,
+        mode,
+        rounds: 1,
+        samples: 200,
+        median_us: 300.5 * ratio,
+        native_median_us: 300.5,
+        ratio,
+        ratio_min: ratio,
+        ratio_max: ratio,
+        ratio_median_rounds: ratio,
+        delta_us: 300.5 * (ratio - 1.0),
+        allocs_per_step: 20.0,
+        native_allocs_per_step: 20.0,
+        kimpact_allocs_per_step: 0.0,
+        peak_rss_mib: 12.0,
+        impacts_per_step: 5.0,
+        error: None,
+    }
+}
+
+/// The bench's CSV, written with its own type: the joined rows, each
+/// passed through `edit`, and rows the join must ignore (other balls,
+/// precisions, scenes).
+fn bench_csv(edit: impl Fn(&mut BenchRow)) -> String {
+    let mut w = csv::Writer::from_writer(Vec::new());
     for (scene, dim, ratios) in RATIOS {
-        for (mode, ratio) in MODES.iter().zip(ratios) {
-            let (ratio, error) =
-                edit(scene, mode).unwrap_or_else(|| (format!("{ratio:.4}"), String::new()));
-            s += &format!("{mode},{scene},{dim},f32,false,1000,1,300.5,{ratio},{error}\n");
-            s += &format!("{mode},{scene},{dim},f32,false,10000,1,3000.5,9.0000,\n");
-            s += &format!("{mode},{scene},{dim},f64,false,1000,1,300.5,8.0000,\n");
+        for (mode, ratio) in Mode::ALL.into_iter().zip(ratios) {
+            let mut r = row(scene, dim, Precision::F32, 1000, mode, ratio);
+            edit(&mut r);
+            w.serialize(r).unwrap();
+            w.serialize(row(scene, dim, Precision::F32, 10_000, mode, 9.0))
+                .unwrap();
+            w.serialize(row(scene, dim, Precision::F64, 1000, mode, 8.0))
+                .unwrap();
         }
     }
-    s += "exact,pit3d,3,f32,false,1000,1,2000.1,1.1045,\"failed: a, b\"\n";
-    s
+    let mut failed = row("pit3d", 3, Precision::F32, 1000, Mode::Exact, 1.1);
+    failed.error = Some("failed: a, b".into());
+    w.serialize(failed).unwrap();
+    String::from_utf8(w.into_inner().unwrap()).unwrap()
+}
+
+/// The line of the joined row of `scene` in `mode` in [`bench_csv`]'s file
+/// (the header is line 1).
+fn line_of(scene: &str, mode: Mode) -> usize {
+    let s = RATIOS.iter().position(|r| r.0 == scene).unwrap();
+    let m = Mode::ALL.iter().position(|&x| x == mode).unwrap();
+    2 + 3 * (4 * s + m)
 }
 
 /// The fixtures' errors: (dim, quantity, noise floor, errors by mode).
@@ -68,38 +113,56 @@ const ERRORS: [(usize, &str, Option<f64>, [f64; 4]); 4] = [
     (3, "energy_error", None, [0.8, 0.9, 1e-5, 1.1e-5]),
 ];
 
-/// An accuracy summary with the joined errors and entries the join must
-/// ignore (another time step, quantity, precision, scene).
+/// An accuracy summary, written with its own type, with the joined errors
+/// and entries the join must ignore (another time step, quantity,
+/// precision, scene); as JSON, for the tests to edit.
 fn summary() -> Value {
     let mut errors = Vec::new();
     for (dim, quantity, floor, values) in ERRORS {
-        for (mode, error) in MODES.iter().zip(values) {
-            let mut e = json!({"scene": "gas", "dimension": dim, "precision": "f32",
-                "mode": mode, "dt_div": 1, "quantity": quantity, "error": error});
-            if let Some(f) = floor {
-                e["noise_floor"] = json!(f);
-            }
-            errors.push(e.clone());
-            e["dt_div"] = json!(2);
-            errors.push(e.clone());
-            e["dt_div"] = json!(1);
-            e["precision"] = json!("f64");
+        for (mode, error) in Mode::ALL.into_iter().zip(values) {
+            let e = ErrorRow {
+                scene: "gas".into(),
+                dimension: dim,
+                precision: Precision::F32,
+                mode,
+                dt_div: 1,
+                quantity: quantity.into(),
+                error,
+                noise_floor: floor,
+            };
+            let ignored = [
+                ErrorRow {
+                    dt_div: 2,
+                    ..e.clone()
+                },
+                ErrorRow {
+                    precision: Precision::F64,
+                    ..e.clone()
+                },
+                ErrorRow {
+                    quantity: "ks_speeds_vs_reference".into(),
+                    ..e.clone()
+                },
+                ErrorRow {
+                    scene: "cradle".into(),
+                    ..e.clone()
+                },
+            ];
             errors.push(e);
-            errors.push(json!({"scene": "gas", "dimension": dim, "precision": "f32",
-                "mode": mode, "dt_div": 1, "quantity": "ks_speeds_vs_reference",
-                "error": 0.01, "noise_floor": 0.012}));
-            errors.push(
-                json!({"scene": "cradle", "dimension": dim, "precision": "f32",
-                "mode": mode, "dt_div": 1, "quantity": "velocity_error", "error": 0.5}),
-            );
+            errors.extend(ignored);
         }
     }
-    json!({"command": "kimpact-accuracy (fixture)", "quick": false, "errors": errors, "costs": []})
+    let command = "kimpact-accuracy (fixture)".into();
+    let s = AccuracySummary {
+        command,
+        quick: false,
+        errors,
+    };
+    serde_json::to_value(s).unwrap()
 }
 
 /// The paths of one test's inputs and outputs.
 struct Files {
-    dir: PathBuf,
     csv: PathBuf,
     json: PathBuf,
     svg: PathBuf,
@@ -115,7 +178,6 @@ impl Files {
             json: dir.join("accuracy-summary.json"),
             svg: dir.join("out/ladder.svg"),
             md: dir.join("out/ladder.md"),
-            dir,
         };
         std::fs::create_dir_all(f.csv.parent().unwrap()).unwrap();
         std::fs::write(&f.csv, csv).unwrap();
@@ -165,36 +227,12 @@ fn entries(dir: &Path) -> Vec<String> {
     v
 }
 
-/// Held while a test writes a script or runs a process: a process forked
-/// while another thread holds a script open for writing would keep it open
-/// ("text file busy" when the script is then run).
-static SPAWN: std::sync::Mutex<()> = std::sync::Mutex::new(());
-
-/// Run `exe` with `args`.
-fn run(exe: &Path, args: &[std::ffi::OsString]) -> Output {
-    let _spawn = SPAWN.lock().unwrap_or_else(|e| e.into_inner());
-    // Not under cargo: a run would build the real siblings first.
-    Command::new(exe)
-        .args(args)
-        .env_remove("CARGO")
+/// Run the ladder on `files`.
+fn ladder(files: &Files) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_kimpact-ladder"))
+        .args(files.args())
         .output()
         .expect("kimpact-ladder starts")
-}
-
-/// Write the executable script `text` at `path`.
-#[cfg(unix)]
-fn write_script(path: &Path, text: &str) {
-    use std::os::unix::fs::PermissionsExt;
-    let _spawn = SPAWN.lock().unwrap_or_else(|e| e.into_inner());
-    std::fs::write(path, text).unwrap();
-    std::fs::set_permissions(path, std::fs::Permissions::from_mode(0o755)).unwrap();
-}
-
-/// Run the ladder with `--plot-only` on `files`.
-fn plot_only(files: &Files) -> Output {
-    let mut args = vec!["--plot-only".into()];
-    args.extend(files.args());
-    run(Path::new(env!("CARGO_BIN_EXE_kimpact-ladder")), &args)
 }
 
 fn stderr(o: &Output) -> String {
@@ -210,8 +248,8 @@ fn table(md: &str) -> Vec<&str> {
 
 #[test]
 fn draws_one_point_per_joined_scene_quantity_and_mode() {
-    let f = Files::new("ok", &bench_csv(|_, _| None), &summary());
-    let out = plot_only(&f);
+    let f = Files::new("ok", &bench_csv(|_| ()), &summary());
+    let out = ladder(&f);
     assert!(out.status.success(), "{}", stderr(&out));
     let svg = std::fs::read_to_string(&f.svg).unwrap();
     assert!(svg.starts_with("<svg"), "not an SVG");
@@ -226,7 +264,7 @@ fn draws_one_point_per_joined_scene_quantity_and_mode() {
         "3D gas",
         "exact",
         "noise floor",
-        "hollow: at or below the noise floor",
+        "Hollow: at or below the noise floor",
     ] {
         assert!(svg.contains(text), "no {text:?} in the SVG");
     }
@@ -247,7 +285,7 @@ fn draws_one_point_per_joined_scene_quantity_and_mode() {
     assert!(rows[0].starts_with("| 2D gas | impact rate error | native"));
     assert!(rows[15].starts_with("| 3D gas | energy error | exact"));
     assert!(md.contains("![error against × native rapier, per mode and scene](ladder.svg)"));
-    assert!(md.contains("--bin kimpact-ladder -- --plot-only --bench-csv"));
+    assert!(md.contains("--bin kimpact-ladder -- --bench-csv"));
     assert!(md.contains("written by `kimpact-accuracy (fixture)`"));
     assert!(!md.contains("## Left out"));
     assert_eq!(
@@ -258,9 +296,11 @@ fn draws_one_point_per_joined_scene_quantity_and_mode() {
 
 #[test]
 fn a_nan_leaves_its_points_out_with_a_note() {
-    let csv = bench_csv(|scene, mode| {
-        (scene == "gas3d" && mode == "impulse")
-            .then(|| ("NaN".into(), "\"timed out, after 600 s\"".into()))
+    let csv = bench_csv(|r| {
+        if r.scene == "gas3d" && r.mode == Mode::Impulse {
+            r.ratio = f64::NAN;
+            r.error = Some("timed out, after 600 s".into());
+        }
     });
     let mut s = summary();
     // serde_json writes a NaN as null
@@ -278,7 +318,7 @@ fn a_nan_leaves_its_points_out_with_a_note() {
         .unwrap();
     entry["error"] = Value::Null;
     let f = Files::new("nan", &csv, &s);
-    let out = plot_only(&f);
+    let out = ladder(&f);
     assert!(out.status.success(), "{}", stderr(&out));
     let svg = std::fs::read_to_string(&f.svg).unwrap();
     assert_eq!(svg.matches("<circle").count(), 16 - 3);
@@ -287,8 +327,9 @@ fn a_nan_leaves_its_points_out_with_a_note() {
     assert_eq!(table(&md).len(), 13);
     assert!(md.contains("## Left out"), "{md}");
     let note = format!(
-        "- 3D gas, impact rate error, impulse: ×native is NaN in {}, line 20; the bench's error: timed out, after 600 s.",
-        f.csv.display()
+        "- 3D gas, impact rate error, impulse: ×native is NaN in {}, line {}; the bench's error: timed out, after 600 s.",
+        f.csv.display(),
+        line_of("gas3d", Mode::Impulse)
     );
     assert!(md.contains(&note), "no {note:?} in\n{md}");
     assert!(
@@ -299,14 +340,15 @@ fn a_nan_leaves_its_points_out_with_a_note() {
 
 #[test]
 fn a_missing_column_fails_naming_it_and_leaves_the_outputs_alone() {
-    let csv = bench_csv(|_, _| None).replacen(",ratio,", ",speedup,", 1);
+    let csv = bench_csv(|_| ()).replacen(",ratio,", ",speedup,", 1);
+    assert!(csv.lines().next().unwrap().contains(",speedup,"));
     let f = Files::new("column", &csv, &summary());
     f.old_outputs();
-    let out = plot_only(&f);
+    let out = ladder(&f);
     assert!(!out.status.success());
     let e = stderr(&out);
     assert!(
-        e.contains(&format!("{}: no column `ratio`", f.csv.display())),
+        e.contains(&f.csv.display().to_string()) && e.contains("missing field `ratio`"),
         "{e}"
     );
     f.assert_old_outputs();
@@ -314,14 +356,14 @@ fn a_missing_column_fails_naming_it_and_leaves_the_outputs_alone() {
 
 #[test]
 fn a_missing_file_fails_naming_it() {
-    let f = Files::new("file", &bench_csv(|_, _| None), &summary());
+    let f = Files::new("file", &bench_csv(|_| ()), &summary());
     f.old_outputs();
     std::fs::remove_file(&f.json).unwrap();
-    let out = plot_only(&f);
+    let out = ladder(&f);
     assert!(!out.status.success());
     let e = stderr(&out);
     assert!(
-        e.contains(&format!("cannot read {}", f.json.display())),
+        e.contains(&format!("{}: cannot read", f.json.display())),
         "{e}"
     );
     f.assert_old_outputs();
@@ -329,29 +371,37 @@ fn a_missing_file_fails_naming_it() {
 
 #[test]
 fn an_unreadable_number_or_a_missing_mode_fails_naming_it() {
-    let csv = bench_csv(|scene, mode| {
-        (scene == "gas2d" && mode == "exact").then(|| ("1.6x".into(), String::new()))
-    });
+    // The ratio 1.6 of the 2D gas in exact mode written as "1.6x".
+    let line = line_of("gas2d", Mode::Exact);
+    let csv: String = bench_csv(|_| ())
+        .lines()
+        .enumerate()
+        .map(|(i, l)| match i + 1 == line {
+            true => l.replacen(",1.6,", ",1.6x,", 1) + "\n",
+            false => format!("{l}\n"),
+        })
+        .collect();
+    assert!(csv.contains(",1.6x,"));
     let f = Files::new("number", &csv, &summary());
-    let out = plot_only(&f);
+    let out = ladder(&f);
     assert!(!out.status.success());
     let e = stderr(&out);
+    let at = format!("{}: column `ratio`: ", f.csv.display());
     assert!(
-        e.contains(&format!(
-            "{}, line 11, column `ratio`: cannot read \"1.6x\" as a number",
-            f.csv.display()
-        )),
+        e.contains(&at) && e.contains(&format!("line: {line}")),
         "{e}"
     );
 
-    let csv: String = bench_csv(|_, _| None)
+    let line = line_of("gas2d", Mode::Restitution);
+    let csv: String = bench_csv(|_| ())
         .lines()
-        .filter(|l| !l.starts_with("restitution,gas2d,2,f32,false,1000,"))
-        .map(|l| format!("{l}\n"))
+        .enumerate()
+        .filter(|(i, _)| i + 1 != line)
+        .map(|(_, l)| format!("{l}\n"))
         .collect();
     let f = Files::new("mode", &csv, &summary());
     f.old_outputs();
-    let out = plot_only(&f);
+    let out = ladder(&f);
     assert!(!out.status.success());
     let e = stderr(&out);
     assert!(
@@ -369,153 +419,13 @@ fn an_unreadable_number_or_a_missing_mode_fails_naming_it() {
 fn an_entry_without_a_field_fails_naming_it() {
     let mut s = summary();
     s["errors"][5].as_object_mut().unwrap().remove("error");
-    let f = Files::new("entry", &bench_csv(|_, _| None), &s);
-    let out = plot_only(&f);
+    let f = Files::new("entry", &bench_csv(|_| ()), &s);
+    let out = ladder(&f);
     assert!(!out.status.success());
     let e = stderr(&out);
     assert!(
-        e.contains(&format!("{}, errors[5].error: missing", f.json.display())),
+        e.contains(&format!("{}: errors[5]", f.json.display()))
+            && e.contains("missing field `error`"),
         "{e}"
     );
-}
-
-/// The ladder's binary in a folder of its own (a hard link, or a copy),
-/// beside which a run looks for its siblings.
-fn lonely_ladder(dir: &Path) -> PathBuf {
-    let bin = dir.join("bin");
-    std::fs::create_dir_all(&bin).unwrap();
-    let exe = bin.join(format!("kimpact-ladder{}", std::env::consts::EXE_SUFFIX));
-    let src = Path::new(env!("CARGO_BIN_EXE_kimpact-ladder"));
-    let _spawn = SPAWN.lock().unwrap_or_else(|e| e.into_inner());
-    if std::fs::hard_link(src, &exe).is_err() {
-        std::fs::copy(src, &exe).unwrap();
-    }
-    exe
-}
-
-#[test]
-fn without_its_siblings_a_run_says_how_to_build_them() {
-    let f = Files::new("siblings", &bench_csv(|_, _| None), &summary());
-    f.old_outputs();
-    let exe = lonely_ladder(&f.dir);
-    let out = run(&exe, &f.args());
-    assert!(!out.status.success());
-    let e = stderr(&out);
-    assert!(e.contains("kimpact-bench is not at"), "{e}");
-    assert!(e.contains("cargo build --release -p kimpact-bench"), "{e}");
-    f.assert_old_outputs();
-}
-
-#[cfg(unix)]
-#[test]
-fn a_failing_sibling_stops_the_run_naming_it() {
-    let f = Files::new("failing", &bench_csv(|_, _| None), &summary());
-    f.old_outputs();
-    let exe = lonely_ladder(&f.dir);
-    let bin = exe.parent().unwrap();
-    for (name, code) in [("kimpact-bench", 3), ("kimpact-accuracy", 0)] {
-        let path = bin.join(name);
-        write_script(&path, &format!("#!/bin/sh\nexit {code}\n"));
-    }
-    let out = run(&exe, &f.args());
-    assert!(!out.status.success());
-    let e = stderr(&out);
-    assert!(e.contains("kimpact-bench failed (exit status: 3)"), "{e}");
-    f.assert_old_outputs();
-    let csv = std::fs::read_to_string(&f.csv).unwrap();
-    assert_eq!(csv, bench_csv(|_, _| None), "the bench's CSV was replaced");
-}
-
-#[cfg(unix)]
-#[test]
-fn a_run_passes_the_published_arguments_and_puts_the_bench_results_in_place() {
-    // before the run, a CSV with a point left out; the fake bench writes
-    // the full fixture
-    let old = bench_csv(|scene, mode| {
-        (scene == "gas2d" && mode == "native").then(|| ("NaN".into(), String::new()))
-    });
-    let f = Files::new("run", &old, &summary());
-    let exe = lonely_ladder(&f.dir);
-    let bin = exe.parent().unwrap();
-    let fixture = f.dir.join("fixture.csv");
-    std::fs::write(&fixture, bench_csv(|_, _| None)).unwrap();
-    let bench = format!(
-        "#!/bin/sh\necho \"$@\" > '{args}'\nwhile [ $# -gt 0 ]; do [ \"$1\" = --out ] && out=$2; shift; done\nmkdir -p \"$out\" && cp '{fixture}' \"$out/results.csv\" && echo '- command: `fake bench`' > \"$out/results.md\"\n",
-        args = f.dir.join("bench-args").display(),
-        fixture = fixture.display(),
-    );
-    let accuracy = format!(
-        "#!/bin/sh\necho \"$@\" > '{}'\n",
-        f.dir.join("accuracy-args").display()
-    );
-    for (name, script) in [("kimpact-bench", bench), ("kimpact-accuracy", accuracy)] {
-        let path = bin.join(name);
-        write_script(&path, &script);
-    }
-    let scratch = f.dir.join("scratch");
-    let mut args = f.args();
-    args.extend([
-        "--quick".into(),
-        "--bench-out".into(),
-        scratch.clone().into_os_string(),
-    ]);
-    let out = run(&exe, &args);
-    assert!(out.status.success(), "{}", stderr(&out));
-
-    let read = |name: &str| std::fs::read_to_string(f.dir.join(name)).unwrap();
-    assert_eq!(
-        read("bench-args").trim(),
-        format!(
-            "--balls 1000 --memory-warmup 600 --out {}",
-            scratch.display()
-        )
-    );
-    assert_eq!(
-        read("accuracy-args").trim(),
-        format!("--out {} --quick", f.dir.display())
-    );
-    assert_eq!(
-        std::fs::read_to_string(&f.csv).unwrap(),
-        bench_csv(|_, _| None)
-    );
-    assert!(
-        std::fs::read_to_string(f.csv.with_extension("md"))
-            .unwrap()
-            .contains("fake bench")
-    );
-    let svg = std::fs::read_to_string(&f.svg).unwrap();
-    assert_eq!(svg.matches("<circle").count(), 16);
-    let md = std::fs::read_to_string(&f.md).unwrap();
-    assert!(md.contains("written by `fake bench`"), "{md}");
-}
-
-#[cfg(unix)]
-#[test]
-fn under_cargo_a_run_builds_the_siblings_first() {
-    let f = Files::new("cargo", &bench_csv(|_, _| None), &summary());
-    f.old_outputs();
-    let exe = lonely_ladder(&f.dir);
-    let cargo = f.dir.join("fake-cargo");
-    let recorded = f.dir.join("cargo-args");
-    write_script(
-        &cargo,
-        &format!(
-            "#!/bin/sh\necho \"$@\" > '{}'\nexit 4\n",
-            recorded.display()
-        ),
-    );
-    let out = {
-        let _spawn = SPAWN.lock().unwrap_or_else(|e| e.into_inner());
-        Command::new(&exe)
-            .args(f.args())
-            .env("CARGO", &cargo)
-            .output()
-            .unwrap()
-    };
-    assert!(!out.status.success());
-    let e = stderr(&out);
-    assert!(e.contains("cargo build failed (exit status: 4)"), "{e}");
-    let args = std::fs::read_to_string(&recorded).unwrap();
-    assert_eq!(args.trim(), "build --release -p kimpact-bench --bins");
-    f.assert_old_outputs();
 }

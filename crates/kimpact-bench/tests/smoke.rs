@@ -1,31 +1,46 @@
-//! The bench binary runs end to end on the smallest scene (2 warm-up and 3
-//! measured steps, every mode and precision, two rounds) and writes the CSV
-//! with its columns; the small scenes run in timed blocks over episodes, and
-//! the effects table has every effect in every mode. Nothing here looks at
-//! a timing.
+//! The bench binary runs end to end on small configurations and writes
+//! what it says: the billiards scene in every mode and precision over two
+//! rounds, the small scenes in timed blocks over episodes, and a scene at
+//! two sizes (its scaling plot), whose outputs `--rerender` rebuilds from
+//! `raw.json`. The CSV is read back with the type that wrote it. Nothing
+//! here looks at a timing.
 
 mod common;
 
-const COLUMNS: [&str; 13] = [
-    "scene",
-    "precision",
-    "balls",
-    "mode",
-    "median_us",
-    "native_median_us",
-    "ratio",
-    "ratio_median_rounds",
-    "allocs_per_step",
-    "kimpact_allocs_per_step",
-    "peak_rss_mib",
-    "energy_rel_change",
-    "error",
-];
+use std::path::{Path, PathBuf};
+
+use kimpact::Mode;
+use kimpact_harness::BenchRow;
+
+/// A fresh output folder for one test.
+fn out_dir(name: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+        .join("bench")
+        .join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+/// Run the bench with `args` into `out`; its standard output.
+fn bench(args: &[&str], out: &Path) -> String {
+    let mut all: Vec<std::ffi::OsString> = args.iter().map(Into::into).collect();
+    all.extend(["--out".into(), out.as_os_str().to_owned()]);
+    common::run_bench(all)
+}
+
+/// The rows of `<out>/results.csv`.
+fn rows(out: &Path) -> Vec<BenchRow> {
+    let mut reader = csv::Reader::from_path(out.join("results.csv")).expect("results.csv");
+    reader
+        .deserialize()
+        .map(|r| r.expect("a BenchRow"))
+        .collect()
+}
 
 #[test]
-fn the_bench_runs_the_smallest_scene_and_writes_its_csv() {
-    let out = std::env::temp_dir().join(format!("kimpact-bench-smoke-{}", std::process::id()));
-    let mut args: Vec<std::ffi::OsString> = [
+fn the_bench_runs_the_billiards_in_every_mode_and_precision() {
+    let out = out_dir("billiards");
+    let args = [
         "--scene",
         "billiards",
         "--warmup",
@@ -34,73 +49,37 @@ fn the_bench_runs_the_smallest_scene_and_writes_its_csv() {
         "3",
         "--rounds",
         "2",
-        "--no-attribute",
-        "--out",
-    ]
-    .map(Into::into)
-    .into();
-    args.push(out.clone().into());
-    let stdout = common::run_bench(args);
+    ];
+    let stdout = bench(&[&args[..], &["--no-attribute"]].concat(), &out);
     assert!(
         stdout.contains("| billiards | f32 | 16 | exact |"),
         "{stdout}"
     );
-    assert!(stdout.contains("### Budgets"), "{stdout}");
-
-    let csv = std::fs::read_to_string(out.join("results.csv")).expect("results.csv written");
-    let mut lines = csv.lines();
-    let header: Vec<&str> = lines.next().expect("a header").split(',').collect();
-    for column in COLUMNS {
-        assert!(header.contains(&column), "no column {column} in {header:?}");
-    }
-    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
-    // 2 precisions x 4 modes, each row as wide as the header, none failed.
-    assert_eq!(rows.len(), 8, "{csv}");
-    let col = |name: &str| header.iter().position(|c| *c == name).unwrap();
-    for row in &rows {
-        assert_eq!(row.len(), header.len(), "{row:?}");
-        assert_eq!(row[col("error")], "", "a run failed: {row:?}");
-        assert_eq!(row[col("scene")], "billiards");
-        let median: f64 = row[col("median_us")].parse().expect("a number");
-        assert!(median > 0.0, "{row:?}");
-        if row[col("mode")] != "native" {
+    let rows = rows(&out);
+    // 2 precisions x 4 modes, none failed.
+    assert_eq!(rows.len(), 8, "{rows:?}");
+    for r in &rows {
+        assert_eq!(r.error, None, "a run failed: {r:?}");
+        assert_eq!((r.scene.as_str(), r.balls, r.dim), ("billiards", 16, 2));
+        assert!(r.median_us > 0.0 && r.native_median_us > 0.0, "{r:?}");
+        assert!(r.kimpact_allocs_per_step.is_nan(), "not attributed: {r:?}");
+        if r.mode != Mode::Native {
             // (native's row pools its runs beside every mode: 3 x 2.)
-            assert_eq!(row[col("rounds")], "2", "{row:?}");
-            // The median of the two rounds' ratios lies between them.
-            let [lo, mid, hi] = ["ratio_min", "ratio_median_rounds", "ratio_max"]
-                .map(|c| row[col(c)].parse::<f64>().expect("a number"));
-            assert!(lo > 0.0 && lo <= mid && mid <= hi, "{row:?}");
+            assert_eq!(r.rounds, 2, "{r:?}");
+            assert!((r.ratio - r.median_us / r.native_median_us).abs() < 1e-12);
+            let (lo, mid, hi) = (r.ratio_min, r.ratio_median_rounds, r.ratio_max);
+            assert!(lo > 0.0 && lo <= mid && mid <= hi, "{r:?}");
         }
     }
-    for mode in ["native", "restitution", "impulse", "exact"] {
-        assert!(rows.iter().any(|r| r[col("mode")] == mode), "no {mode} row");
+    for mode in Mode::ALL {
+        assert!(rows.iter().any(|r| r.mode == mode), "no {mode} row");
     }
-    let _ = std::fs::remove_dir_all(&out);
-}
-
-/// The CSV at `path`: its header and rows, each row as wide as the header.
-fn read_csv(path: &std::path::Path) -> (Vec<String>, Vec<Vec<String>>) {
-    let csv = std::fs::read_to_string(path).expect("the CSV is written");
-    let mut lines = csv.lines();
-    let header: Vec<String> = lines
-        .next()
-        .expect("a header")
-        .split(',')
-        .map(str::to_owned)
-        .collect();
-    let rows: Vec<Vec<String>> = lines
-        .map(|l| l.split(',').map(str::to_owned).collect())
-        .collect();
-    for row in &rows {
-        assert_eq!(row.len(), header.len(), "{row:?}");
-    }
-    (header, rows)
 }
 
 #[test]
-fn the_small_scenes_run_in_timed_blocks_and_are_judged_by_goal_3() {
-    let out = std::env::temp_dir().join(format!("kimpact-bench-small-{}", std::process::id()));
-    let mut args: Vec<std::ffi::OsString> = [
+fn the_small_scenes_run_in_timed_blocks_over_episodes() {
+    let out = out_dir("small");
+    let args = [
         "--scene",
         "restitution3,restitution2,pinball",
         "--precision",
@@ -114,102 +93,72 @@ fn the_small_scenes_run_in_timed_blocks_and_are_judged_by_goal_3() {
         "--small-repeats",
         "3",
         "--no-attribute",
-        "--out",
-    ]
-    .map(Into::into)
-    .into();
-    args.push(out.clone().into());
-    let stdout = common::run_bench(args);
+    ];
+    let stdout = bench(&args, &out);
     assert!(
         stdout.contains("| restitution3 | f32 | 22 | exact |"),
         "{stdout}"
     );
     assert!(stdout.contains("| pinball | f32 | 3 | exact |"), "{stdout}");
-    assert!(stdout.contains("small scene, exact"), "{stdout}");
-
-    let (header, rows) = read_csv(&out.join("results.csv"));
-    let col = |name: &str| header.iter().position(|c| c == name).unwrap();
+    let rows = rows(&out);
     // 3 scenes x 4 modes, none failed.
     assert_eq!(rows.len(), 12, "{rows:?}");
-    for row in &rows {
-        assert_eq!(row[col("error")], "", "a run failed: {row:?}");
-        assert_eq!(row[col("non_finite")], "0", "{row:?}");
-        assert_eq!(row[col("escaped")], "0", "{row:?}");
-        let num = |c: &str| row[col(c)].parse::<f64>().expect("a number");
-        if row[col("mode")] == "native" {
-            assert_eq!(row[col("small_goal")], "", "{row:?}");
-            continue;
-        }
+    for r in rows.iter().filter(|r| r.mode != Mode::Native) {
+        assert_eq!(r.error, None, "a run failed: {r:?}");
         // One sample per block: 4 steps in blocks of 2, 3 episodes.
-        assert_eq!(row[col("samples")], "6", "{row:?}");
-        assert!(
-            ["pass", "miss"].contains(&row[col("small_goal")].as_str()),
-            "{row:?}"
-        );
-        let goal =
-            num("median_us") <= (1.15 * num("native_median_us")).max(num("native_median_us") + 1.0);
-        assert_eq!(row[col("small_goal")] == "pass", goal, "{row:?}");
-        let delta = num("median_us") - num("native_median_us");
-        assert!((num("delta_us") - delta).abs() < 2e-3, "{row:?}");
+        assert_eq!(r.samples, 6, "{r:?}");
+        assert!((r.delta_us - (r.median_us - r.native_median_us)).abs() < 1e-9);
     }
-    let _ = std::fs::remove_dir_all(&out);
 }
 
 #[test]
-fn the_effects_table_has_every_effect_in_every_law_mode() {
-    let out = std::env::temp_dir().join(format!("kimpact-bench-effects-{}", std::process::id()));
-    let mut args: Vec<std::ffi::OsString> = [
-        "--effects",
+fn two_sizes_give_a_scaling_plot_and_rerender_rebuilds_the_outputs() {
+    let out = out_dir("scaling");
+    let args = [
         "--scene",
         "gas2d",
         "--balls",
-        "64",
+        "50,20",
         "--precision",
         "f32",
+        "--mode",
+        "exact",
         "--warmup",
-        "2",
+        "1",
         "--steps",
         "3",
+        "--memory-warmup",
+        "2",
         "--memory-steps",
         "2",
-        "--no-attribute",
-        "--out",
-    ]
-    .map(Into::into)
-    .into();
-    args.push(out.clone().into());
-    let stdout = common::run_bench(args);
-    assert!(stdout.contains("| materials | exact |"), "{stdout}");
-    assert!(out.join("effects.md").exists());
-
-    let (header, rows) = read_csv(&out.join("effects.csv"));
-    let col = |name: &str| header.iter().position(|c| c == name).unwrap();
-    let effects = [
-        "none",
-        "gravity",
-        "dissipation",
-        "friction",
-        "spin",
-        "walls",
-        "events",
-        "materials",
+        "--hook-native",
     ];
-    assert_eq!(rows.len(), effects.len() * 3, "{rows:?}");
-    for effect in effects {
-        for mode in ["restitution", "impulse", "exact"] {
-            let row = rows
-                .iter()
-                .find(|r| r[col("effect")] == effect && r[col("mode")] == mode)
-                .unwrap_or_else(|| panic!("no row for {effect} in {mode}"));
-            assert_eq!(row[col("error")], "", "a run failed: {row:?}");
-            assert_eq!(row[col("balls")], "64", "{row:?}");
-            let num = |c: &str| row[col(c)].parse::<f64>().expect("a number");
-            assert!(num("median_us") > 0.0, "{row:?}");
-            if effect == "none" {
-                // The base against itself.
-                assert_eq!(num("delta_minus_base_us"), 0.0, "{row:?}");
-            }
-        }
+    let stdout = bench(&args, &out);
+    let first = rows(&out);
+    // 2 sizes x (native, exact), attributed.
+    assert_eq!(first.len(), 4, "{first:?}");
+    assert_eq!(
+        first.iter().map(|r| r.balls).collect::<Vec<_>>(),
+        [20, 20, 50, 50]
+    );
+    for r in &first {
+        assert_eq!(r.error, None, "a run failed: {r:?}");
+        assert!(r.kimpact_allocs_per_step >= 0.0, "attributed: {r:?}");
+        assert!(r.peak_rss_mib > 0.0, "{r:?}");
     }
-    let _ = std::fs::remove_dir_all(&out);
+    let svg = out.join("scaling-gas2d-f32.svg");
+    let plot = std::fs::read_to_string(&svg).expect("the scaling plot");
+    assert!(plot.starts_with("<svg") && plot.contains("exact"));
+
+    let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    for name in ["results.csv", "results.md", "scaling-gas2d-f32.svg"] {
+        std::fs::remove_file(out.join(name)).unwrap();
+    }
+    let again = bench(&["--rerender"], &out);
+    assert_eq!(again, stdout, "the table rebuilt from raw.json");
+    assert_eq!(
+        std::fs::read_to_string(out.join("results.csv")).unwrap(),
+        csv
+    );
+    assert!(svg.exists());
 }

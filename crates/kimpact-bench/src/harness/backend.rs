@@ -118,7 +118,8 @@ macro_rules! rapier_backend {
                                 let body = world.insert_body(
                                     RigidBodyBuilder::fixed().translation(to_rapier(&c)),
                                 );
-                                let collider = k::math::cuboid(to_rapier(&he))
+                                let he = k::rapier::parry::shape::Cuboid::new(to_rapier(&he));
+                                let collider = ColliderBuilder::new(SharedShape::new(he))
                                     .friction(0.0)
                                     .restitution(e_wall as Real);
                                 let handle = world.insert_collider(collider, Some(body));

@@ -1,6 +1,9 @@
 //! `kimpact_harness`: every simulator of the accuracy study behind one
 //! interface, the scenes it runs, the measurements it takes and the colour
-//! each simulator is drawn in.
+//! each simulator is drawn in; and what the package's tools hand each
+//! other: the records the bench and the study write and the ladder reads
+//! ([`BenchRow`], [`AccuracySummary`]), and whole-file writes
+//! ([`write_files`]).
 //!
 //! The rapier side is the adapter built four times (`kimpact2d`,
 //! `kimpact3d`, `kimpact2d-f64`, `kimpact3d-f64`); one macro wraps each into
@@ -15,22 +18,30 @@
 
 mod backend;
 mod error;
+mod files;
 mod measure;
 mod method;
-mod palette;
+mod plot;
+mod records;
 mod scenes;
 mod sim;
+mod stacks;
+mod stats;
 
 pub use backend::{B2_F32, B2_F64, B3_F32, B3_F64, Backend};
 pub use error::HarnessError;
+pub use files::{WriteError, machine, write_files};
 pub use measure::{GasSeries, ShortResult, gas_series, kinetic, momentum, short_run};
 pub use method::Method;
-pub use palette::color;
+pub use plot::{Panel, color, svg};
+pub use records::{AccuracySummary, BenchRow, ErrorRow};
 pub use scenes::{
     DT, R, Rng, Setup, Velocities, ball_volume, cradle_setup, gas_setup, lattice, two_ball_setup,
     unit_x, z_setup,
 };
 pub use sim::{RefSim, Sim, State, Totals};
+pub use stacks::is_kimpact;
+pub use stats::{ks, ks_maxwell, mean_and_error};
 
 /// A vector of the reference's dimension `D`, in f64.
 pub type V<const D: usize> = kimpact_reference::nalgebra::SVector<f64, D>;

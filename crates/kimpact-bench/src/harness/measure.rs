@@ -23,16 +23,16 @@ pub fn momentum<const D: usize>(setup: &Setup<D>, state: &[(V<D>, V<D>)]) -> V<D
         .sum()
 }
 
-/// Errors of a short scene against the reference at the same time.
+/// Errors of a short scene against the reference at the same time: the
+/// largest velocity difference (the incoming speed is 1), the largest
+/// position difference in radii, the kinetic energy kept, and |Δ momentum|
+/// relative to the initial momentum.
+#[allow(missing_docs)]
 #[derive(Copy, Clone, Debug)]
 pub struct ShortResult {
-    /// Largest velocity difference (the incoming speed is 1).
     pub dv: f64,
-    /// Largest position difference, in radii.
     pub dx: f64,
-    /// Kinetic energy kept.
     pub kept: f64,
-    /// |Δ momentum| relative to the initial momentum.
     pub dp: f64,
 }
 
@@ -78,29 +78,24 @@ pub fn short_run<const D: usize>(
     })
 }
 
-/// A gas over time: kinetic energy, momentum and impacts at checkpoints;
-/// speeds in units of the rms speed pooled over the second half.
+/// A gas over time, at checkpoints from time 0 (`t`): kinetic energy over
+/// the initial one, |P| in units of sqrt(2 M E), impacts so far; speeds over
+/// the rms speed pooled over the second half; ms per rapier step (NaN for
+/// the reference); why the run stopped early; the wall-impulse residual
+/// ([`Sim::impulse_residual`]); balls outside the box at the end; what the
+/// simulator counted that is unusual ([`Sim::diagnostics`]).
+#[allow(missing_docs)]
 #[derive(Clone, Debug)]
 pub struct GasSeries {
-    /// The checkpoint times (0 first).
     pub t: Vec<f64>,
-    /// Kinetic energy over the initial one.
     pub energy: Vec<f64>,
-    /// |P| in units of sqrt(2 M E).
     pub momentum: Vec<f64>,
-    /// Impacts so far.
     pub impacts: Vec<u64>,
-    /// Speeds over the rms speed, pooled over the second half.
     pub speeds: Vec<f64>,
-    /// Milliseconds per rapier step (NaN for the reference).
     pub ms_per_step: f64,
-    /// Why the run stopped early, if it did.
     pub error: Option<String>,
-    /// The wall-impulse residual ([`Sim::impulse_residual`]).
     pub residual: f64,
-    /// Balls found outside the box at the end.
     pub escaped: usize,
-    /// What the simulator counted that is unusual ([`Sim::diagnostics`]).
     pub diagnostics: Option<String>,
 }
 

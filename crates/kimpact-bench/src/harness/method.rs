@@ -21,14 +21,6 @@ impl Method {
         Method::Rapier(Mode::Impulse),
         Method::Rapier(Mode::Exact),
     ];
-    /// The reference, then rapier in every mode.
-    pub const ALL: [Method; 5] = [
-        Method::Reference,
-        Method::Rapier(Mode::Native),
-        Method::Rapier(Mode::Restitution),
-        Method::Rapier(Mode::Impulse),
-        Method::Rapier(Mode::Exact),
-    ];
     /// Native rapier.
     pub const NATIVE: Method = Method::Rapier(Mode::Native);
 

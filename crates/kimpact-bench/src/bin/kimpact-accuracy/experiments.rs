@@ -4,14 +4,32 @@
 
 use kimpact::Precision;
 use kimpact_harness::{
-    Backend, DT, GasSeries, HarnessError, Method, V, cradle_setup, gas_series, gas_setup,
-    short_run, two_ball_setup, z_setup,
+    Backend, DT, ErrorRow, GasSeries, HarnessError, Method, V, cradle_setup, gas_series, gas_setup,
+    ks, ks_maxwell, short_run, two_ball_setup, z_setup,
 };
+use serde::Serialize;
 
 use crate::format::{e, pct};
-use crate::stats::{ks, ks_maxwell};
-use crate::summary::{CostRow, ErrorRow};
 use crate::z::{ZResult, z_run};
+
+/// A line of `accuracy.csv`: one value of a series or of the cost sweep:
+/// its section (`gas`, `cooling`, `cost`), build, simulator, time step
+/// divisor, x (time, or the time step), quantity and value.
+#[derive(Serialize)]
+pub struct CsvRow(
+    &'static str,
+    &'static str,
+    &'static str,
+    usize,
+    f64,
+    &'static str,
+    f64,
+);
+
+/// The header of `accuracy.csv`.
+pub const CSV_HEADER: [&str; 7] = [
+    "section", "engine", "method", "dt_div", "x", "quantity", "value",
+];
 
 /// What a job hands back: table rows (by table key), CSV lines, plot
 /// points (by panel title and simulator), notes, Z results and summary
@@ -19,12 +37,103 @@ use crate::z::{ZResult, z_run};
 #[derive(Default)]
 pub struct Out {
     pub rows: Vec<(String, Vec<String>)>,
-    pub csv: Vec<String>,
+    pub csv: Vec<CsvRow>,
     pub points: Vec<(String, Method, f64, f64)>,
     pub notes: Vec<String>,
     pub z: Vec<ZEntry>,
     pub errors: Vec<ErrorRow>,
-    pub costs: Vec<CostRow>,
+}
+
+impl Out {
+    /// Add everything of `other`.
+    pub fn absorb(&mut self, other: Out) {
+        self.rows.extend(other.rows);
+        self.csv.extend(other.csv);
+        self.points.extend(other.points);
+        self.notes.extend(other.notes);
+        self.z.extend(other.z);
+        self.errors.extend(other.errors);
+    }
+}
+
+/// A job's output in one build: what it adds is labelled with the build.
+struct Build<'a, const D: usize> {
+    b: &'a Backend<D>,
+    out: Out,
+}
+
+impl<'a, const D: usize> Build<'a, D> {
+    fn new(b: &'a Backend<D>) -> Self {
+        Self {
+            b,
+            out: Out::default(),
+        }
+    }
+
+    /// A row of `table`, the build first.
+    fn row(&mut self, table: &str, cells: Vec<String>) {
+        let row = std::iter::once(self.b.label.to_owned())
+            .chain(cells)
+            .collect();
+        self.out.rows.push((table.to_owned(), row));
+    }
+
+    /// A line of the CSV.
+    fn csv(
+        &mut self,
+        section: &'static str,
+        m: Method,
+        div: usize,
+        x: f64,
+        q: &'static str,
+        v: f64,
+    ) {
+        self.out
+            .csv
+            .push(CsvRow(section, self.b.label, m.name(), div, x, q, v));
+    }
+
+    /// A point of the panel `title` (with the build's label) of the plot.
+    fn point(&mut self, title: &str, method: Method, x: f64, y: f64) {
+        self.out
+            .points
+            .push((format!("{title} {}", self.b.label), method, x, y));
+    }
+
+    /// A note about `who` in this build.
+    fn note(&mut self, section: &str, who: &str, text: impl std::fmt::Display) {
+        self.out
+            .notes
+            .push(format!("{section} {}{who}: {text}", self.b.label));
+    }
+
+    /// A summary row for rapier in `method` (the reference has none).
+    fn error(
+        &mut self,
+        m: Method,
+        scene: &str,
+        div: usize,
+        q: &str,
+        error: f64,
+        floor: Option<f64>,
+    ) {
+        if let Some(mode) = m.mode() {
+            let (dimension, precision) = (D, self.b.precision);
+            let (scene, quantity) = (scene.to_owned(), q.to_owned());
+            let noise_floor = floor;
+            let row = ErrorRow {
+                scene,
+                dimension,
+                precision,
+                mode,
+                dt_div: div,
+                quantity,
+                error,
+                noise_floor,
+            };
+            self.out.errors.push(row);
+        }
+    }
 }
 
 /// One Z run: the case (dimension, η and box, the same for every
@@ -40,131 +149,62 @@ pub struct ZEntry {
     pub r: ZResult,
 }
 
-impl Out {
-    fn row(&mut self, table: &str, cells: Vec<String>) {
-        self.rows.push((table.to_owned(), cells));
-    }
-
-    #[allow(clippy::too_many_arguments)]
-    fn csv(
-        &mut self,
-        section: &str,
-        engine: &str,
-        method: Method,
-        dt_div: usize,
-        x: f64,
-        quantity: &str,
-        value: f64,
-    ) {
-        self.csv.push(format!(
-            "{section},{engine},{},{dt_div},{x},{quantity},{value:e}",
-            method.name()
-        ));
-    }
-
-    fn point(&mut self, panel: &str, method: Method, x: f64, y: f64) {
-        self.points.push((panel.to_owned(), method, x, y));
-    }
-
-    /// A summary row for rapier in `method` (the reference has none).
-    #[allow(clippy::too_many_arguments)]
-    fn error<const D: usize>(
-        &mut self,
-        scene: &str,
-        b: &Backend<D>,
-        method: Method,
-        dt_div: usize,
-        quantity: &'static str,
-        error: f64,
-        noise_floor: Option<f64>,
-    ) {
-        if let Some(mode) = method.mode() {
-            self.errors.push(ErrorRow {
-                scene: scene.to_owned(),
-                dimension: D,
-                precision: b.precision,
-                mode,
-                dt_div,
-                quantity,
-                error,
-                noise_floor,
-            });
-        }
-    }
-}
-
-/// How large and long every comparison is.
+/// How large and long every comparison is: the gases' balls, simulated
+/// time and checkpoints; the Z runs' measuring time (reference, rapier),
+/// equilibration (reference, rapier), least distance from the walls of the
+/// density's region, accessible box lengths (2D, 3D and the reference's
+/// larger 3D) and the reference's calibration time in each box; the
+/// cooling gas's time and checkpoints; the cost runs' time.
 pub struct Sizes {
-    /// Balls of the gases (statistics, cooling, cost).
     pub gas_n: usize,
-    /// Simulated time of the gas statistics.
     pub gas_t: f64,
-    /// Checkpoints of the gas statistics.
     pub gas_checkpoints: usize,
-    /// Reference Z runs: measuring time (time units).
     pub z_ref_t: f64,
-    /// rapier Z runs: measuring time.
     pub z_rapier_t: f64,
-    /// Z runs: equilibration of the reference and of rapier.
     pub z_eq: (f64, f64),
-    /// Z: the least distance from the walls beyond which density counts.
     pub w_min: f64,
-    /// Z: the accessible box lengths, 2D, 3D and the reference's larger 3D.
     pub ell2: V<2>,
-    /// See `ell2`.
     pub ell3: V<3>,
-    /// See `ell2`.
     pub ell3_large: V<3>,
-    /// Z: the reference's calibration time in each of those boxes.
     pub calibrate_t: [f64; 3],
-    /// Simulated time of the cooling gas.
     pub cooling_t: f64,
-    /// Checkpoints of the cooling gas.
     pub cooling_checkpoints: usize,
-    /// Simulated time of the cost runs.
     pub cost_t: f64,
 }
 
-impl Sizes {
-    /// The published run.
-    pub fn full() -> Self {
-        Self {
-            gas_n: 200,
-            gas_t: 100.0,
-            gas_checkpoints: 100,
-            z_ref_t: 2000.0,
-            z_rapier_t: 100.0,
-            z_eq: (50.0, 10.0),
-            w_min: 3.5,
-            ell2: V::<2>::new(60.0, 30.0),
-            ell3: V::<3>::new(10.0, 10.0, 20.0),
-            ell3_large: V::<3>::new(14.0, 14.0, 28.0),
-            calibrate_t: [400.0, 100.0, 50.0],
-            cooling_t: 30.0,
-            cooling_checkpoints: 60,
-            cost_t: 10.0,
-        }
-    }
+/// `full`, or `quick` in a smoke run.
+fn pick<T>(quick: bool, full: T, smoke: T) -> T {
+    if quick { smoke } else { full }
+}
 
-    /// A smoke run: every comparison, on small scenes for short times.
-    pub fn quick() -> Self {
+impl Sizes {
+    /// The published run, or with `quick` a smoke run: every comparison on
+    /// small scenes for short times (the smallest boxes whose lattices still
+    /// hold the calibrated balls more than a diameter apart).
+    pub fn new(quick: bool) -> Self {
         Self {
-            gas_n: 50,
-            gas_t: 2.0,
-            gas_checkpoints: 20,
-            z_ref_t: 20.0,
-            z_rapier_t: 5.0,
-            z_eq: (2.0, 1.0),
-            w_min: 1.5,
-            // The smallest boxes whose lattices still hold the calibrated
-            // number of balls more than a diameter apart.
-            ell2: V::<2>::new(20.0, 10.0),
-            ell3: V::<3>::new(8.0, 8.0, 16.0),
-            ell3_large: V::<3>::new(9.0, 9.0, 18.0),
-            calibrate_t: [10.0, 10.0, 10.0],
-            cooling_t: 2.0,
-            cooling_checkpoints: 12,
-            cost_t: 0.5,
+            gas_n: pick(quick, 200, 50),
+            gas_t: pick(quick, 100.0, 2.0),
+            gas_checkpoints: pick(quick, 100, 20),
+            z_ref_t: pick(quick, 2000.0, 20.0),
+            z_rapier_t: pick(quick, 100.0, 5.0),
+            z_eq: pick(quick, (50.0, 10.0), (2.0, 1.0)),
+            w_min: pick(quick, 3.5, 1.5),
+            ell2: pick(quick, V::<2>::new(60.0, 30.0), V::<2>::new(20.0, 10.0)),
+            ell3: pick(
+                quick,
+                V::<3>::new(10.0, 10.0, 20.0),
+                V::<3>::new(8.0, 8.0, 16.0),
+            ),
+            ell3_large: pick(
+                quick,
+                V::<3>::new(14.0, 14.0, 28.0),
+                V::<3>::new(9.0, 9.0, 18.0),
+            ),
+            calibrate_t: pick(quick, [400.0, 100.0, 50.0], [10.0, 10.0, 10.0]),
+            cooling_t: pick(quick, 30.0, 2.0),
+            cooling_checkpoints: pick(quick, 60, 12),
+            cost_t: pick(quick, 10.0, 0.5),
         }
     }
 }
@@ -172,155 +212,115 @@ impl Sizes {
 /// One oblique impact (1:10 elastic, 1:1 dissipative) and Newton's cradle,
 /// every mode of one build.
 pub fn short_jobs<const D: usize>(b: Backend<D>) -> Result<Out, HarnessError> {
-    let mut out = Out::default();
-    for method in Method::RAPIER {
+    let mut j = Build::new(&b);
+    for m in Method::RAPIER {
         for (m2, d) in [(10.0, 0.0), (1.0, 0.05)] {
-            let s = short_run(&b, &two_ball_setup::<D>(m2, d, 0.6, DT), method, 10.0 * DT)?;
+            let s = short_run(&b, &two_ball_setup::<D>(m2, d, 0.6, DT), m, 10.0 * DT)?;
             if d > 0.0 {
-                out.error(
-                    "one_impact_dissipative",
-                    &b,
-                    method,
-                    1,
-                    "velocity_error",
-                    s.dv,
-                    None,
-                );
+                j.error(m, "one_impact_dissipative", 1, "velocity_error", s.dv, None);
             }
-            out.row(
+            let (kept, masses) = (format!("{:.6}", s.kept), format!("1:{m2}, d̃ = {d}"));
+            j.row(
                 "impact",
-                vec![
-                    b.label.into(),
-                    method.name().into(),
-                    format!("1:{m2}, d̃ = {d}"),
-                    e(s.dv),
-                    e(s.dx),
-                    format!("{:.6}", s.kept),
-                    e(s.dp),
-                ],
+                vec![m.name().into(), masses, e(s.dv), e(s.dx), kept, e(s.dp)],
             );
         }
-        let s = short_run(&b, &cradle_setup::<D>(DT), method, 30.0 * DT)?;
-        out.row(
+        let s = short_run(&b, &cradle_setup::<D>(DT), m, 30.0 * DT)?;
+        j.row(
             "cradle",
-            vec![
-                b.label.into(),
-                method.name().into(),
-                e(s.dv),
-                format!("{:.4}", s.kept),
-                e(s.dp),
-            ],
+            vec![m.name().into(), e(s.dv), format!("{:.4}", s.kept), e(s.dp)],
         );
     }
-    Ok(out)
+    Ok(j.out)
 }
 
 /// The elastic gas over time in one build and mode against the reference
 /// (and, with `native`, the reference's own rows).
 pub fn gas_jobs<const D: usize>(
     b: Backend<D>,
-    method: Method,
+    m: Method,
     sizes: &Sizes,
 ) -> Result<Out, HarnessError> {
-    let mut out = Out::default();
-    let n = sizes.gas_n;
+    let mut j = Build::new(&b);
+    let (n, t, checkpoints) = (sizes.gas_n, sizes.gas_t, sizes.gas_checkpoints);
     let setup = gas_setup::<D>(n, 0.0, DT, 1)?;
-    let checkpoints = sizes.gas_checkpoints;
-    let g = gas_series(&b, &setup, method, sizes.gas_t, checkpoints)?;
-    let r = gas_series(&b, &setup, Method::Reference, sizes.gas_t, checkpoints)?;
+    let g = gas_series(&b, &setup, m, t, checkpoints)?;
+    let r = gas_series(&b, &setup, Method::Reference, t, checkpoints)?;
     // The noise floor: the reference from other initial balls.
     let other = gas_series(
         &b,
         &gas_setup::<D>(n, 0.0, DT, 2)?,
         Method::Reference,
-        sizes.gas_t,
+        t,
         checkpoints,
     )?;
     let rate = |s: &GasSeries| *s.impacts.last().unwrap() as f64 / s.t.last().unwrap();
     let mean_p = |s: &GasSeries| s.momentum.iter().sum::<f64>() / s.momentum.len() as f64;
-    let cells = |label: String, s: &GasSeries| {
-        let mut sp = s.speeds.clone();
-        let mut rsp = r.speeds.clone();
+    let ks_ref = |s: &GasSeries| ks(&mut s.speeds.clone(), &mut r.speeds.clone());
+    let rate_error = |s: &GasSeries| (rate(s) / rate(&r) - 1.0).abs();
+    let cells = |label: &str, s: &GasSeries| {
+        let ms = if s.ms_per_step.is_nan() {
+            "–".into()
+        } else {
+            format!("{:.3}", s.ms_per_step)
+        };
+        let residual = match s.escaped {
+            0 => e(s.residual),
+            n => format!("{n} escaped"),
+        };
         vec![
-            b.label.into(),
-            label,
+            label.to_owned(),
             format!("{:.6}", s.energy.last().unwrap()),
             format!("{:.3}", mean_p(s)),
             format!("{:.0}", rate(s)),
             pct(rate(s) / rate(&r) - 1.0),
-            format!("{:.3}", ks(&mut sp, &mut rsp)),
+            format!("{:.3}", ks_ref(s)),
             format!("{:.3}", ks_maxwell(D, &mut s.speeds.clone())),
-            if s.ms_per_step.is_nan() {
-                "–".into()
-            } else {
-                format!("{:.3}", s.ms_per_step)
-            },
-            if s.escaped > 0 {
-                format!("{} escaped", s.escaped)
-            } else {
-                e(s.residual)
-            },
+            ms,
+            residual,
         ]
     };
-    let ks_ref = |s: &GasSeries| ks(&mut s.speeds.clone(), &mut r.speeds.clone());
-    let rate_error = |s: &GasSeries| (rate(s) / rate(&r) - 1.0).abs();
-    out.error(
-        "gas",
-        &b,
-        method,
-        1,
-        "ks_speeds_vs_reference",
-        ks_ref(&g),
-        Some(ks_ref(&other)),
-    );
-    out.error(
-        "gas",
-        &b,
-        method,
-        1,
-        "impact_rate_error",
-        rate_error(&g),
-        Some(rate_error(&other)),
-    );
-    if method == Method::NATIVE {
-        let row = cells("reference".into(), &r);
-        out.row("gas", row);
-        let row = cells("reference, other balls".into(), &other);
-        out.row("gas", row);
+    let (ks_e, ks_floor) = (ks_ref(&g), ks_ref(&other));
+    j.error(m, "gas", 1, "ks_speeds_vs_reference", ks_e, Some(ks_floor));
+    let (rate_e, rate_floor) = (rate_error(&g), rate_error(&other));
+    j.error(m, "gas", 1, "impact_rate_error", rate_e, Some(rate_floor));
+    if m == Method::NATIVE {
+        j.row("gas", cells("reference", &r));
+        j.row("gas", cells("reference, other balls", &other));
     }
-    let row = cells(method.name().into(), &g);
-    out.row("gas", row);
-    if let Some(err) = &g.error {
-        out.notes
-            .push(format!("gas {} {}: {err}", b.label, method.name()));
+    j.row("gas", cells(m.name(), &g));
+    let who = format!(" {}", m.name());
+    for text in g.error.iter().chain(&g.diagnostics) {
+        j.note("gas", &who, text);
     }
-    if let Some(d) = &g.diagnostics {
-        out.notes
-            .push(format!("gas {} {}: {d}", b.label, method.name()));
-    }
-    for (s, m) in [(&g, method), (&r, Method::Reference)] {
-        if m == Method::Reference && method != Method::NATIVE {
-            continue;
-        }
+    let series = if m == Method::NATIVE {
+        vec![(&g, m), (&r, Method::Reference)]
+    } else {
+        vec![(&g, m)]
+    };
+    for (s, m) in series {
         for i in 0..s.t.len() {
-            out.csv("gas", b.label, m, 1, s.t[i], "energy", s.energy[i]);
+            j.csv("gas", m, 1, s.t[i], "energy", s.energy[i]);
             if i > 0 {
                 let rate = (s.impacts[i] - s.impacts[i - 1]) as f64 / (s.t[i] - s.t[i - 1]);
-                out.csv("gas", b.label, m, 1, s.t[i], "impact_rate", rate);
+                j.csv("gas", m, 1, s.t[i], "impact_rate", rate);
             }
-            out.csv("gas", b.label, m, 1, s.t[i], "momentum", s.momentum[i]);
+            j.csv("gas", m, 1, s.t[i], "momentum", s.momentum[i]);
         }
     }
-    Ok(out)
+    Ok(j.out)
 }
 
 /// The cooling granular gas in one build, every mode against the
 /// reference.
 pub fn cooling_jobs<const D: usize>(b: Backend<D>, sizes: &Sizes) -> Result<Out, HarnessError> {
-    let mut out = Out::default();
-    let d = 0.01;
-    let n = sizes.gas_n;
-    let checkpoints = sizes.cooling_checkpoints;
+    let mut j = Build::new(&b);
+    let (n, d, t, checkpoints) = (
+        sizes.gas_n,
+        0.01,
+        sizes.cooling_t,
+        sizes.cooling_checkpoints,
+    );
     // With d̃ > 0 the reference can stall: grazing impacts are clamped to a
     // restitution of 1e-3, and three balls in contact then collapse into
     // infinitely many impacts at one instant (inelastic collapse). Take
@@ -332,14 +332,14 @@ pub fn cooling_jobs<const D: usize>(b: Backend<D>, sizes: &Sizes) -> Result<Out,
             &b,
             &gas_setup::<D>(n, d, DT, seed)?,
             Method::Reference,
-            sizes.cooling_t,
+            t,
             checkpoints,
         )?;
         match &g.error {
-            Some(err) => out.notes.push(format!(
-                "cooling {} reference, draw {seed} (skipped): {err} (inelastic collapse)",
-                b.label
-            )),
+            Some(err) => {
+                let who = format!(" reference, draw {seed} (skipped)");
+                j.note("cooling", &who, format!("{err} (inelastic collapse)"));
+            }
             None => good.push((seed, g)),
         }
         if good.len() == 2 {
@@ -347,116 +347,95 @@ pub fn cooling_jobs<const D: usize>(b: Backend<D>, sizes: &Sizes) -> Result<Out,
         }
     }
     let (Some((other_seed, other)), Some((seed, r))) = (good.pop(), good.pop()) else {
-        out.notes.push(format!(
-            "cooling {}: no two draws the reference runs through; no comparison",
-            b.label
-        ));
-        return Ok(out);
+        j.note(
+            "cooling",
+            "",
+            "no two draws the reference runs through; no comparison",
+        );
+        return Ok(j.out);
     };
-    out.notes.push(format!(
-        "cooling {}: compared on draw {seed}; noise floor from draw {other_seed}",
-        b.label
-    ));
+    j.note(
+        "cooling",
+        "",
+        format!("compared on draw {seed}; noise floor from draw {other_seed}"),
+    );
     let setup = gas_setup::<D>(n, d, DT, seed)?;
-    let panel = format!("cooling {}", b.label);
-    let mut runs = vec![(
-        "reference, other balls".to_owned(),
-        Method::Reference,
-        other,
-    )];
+    let mut runs = vec![("reference, other balls", Method::Reference, other)];
     for m in Method::RAPIER {
-        let s = gas_series(&b, &setup, m, sizes.cooling_t, checkpoints)?;
-        runs.push((m.name().to_owned(), m, s));
+        runs.push((m.name(), m, gas_series(&b, &setup, m, t, checkpoints)?));
     }
     let worst = |s: &GasSeries| {
-        let m = s.t.len().min(r.t.len());
-        (1..m)
+        let k = s.t.len().min(r.t.len());
+        (1..k)
             .map(|i| (s.energy[i] / r.energy[i] - 1.0).abs())
             .fold(0.0, f64::max)
     };
     let row = |label: &str, s: &GasSeries, vs: bool| {
-        let m = s.t.len().min(r.t.len());
-        let worst = worst(s);
+        let k = s.t.len().min(r.t.len());
+        let (end, worst) = match vs {
+            true => (
+                pct(s.energy[k - 1] / r.energy[k - 1] - 1.0),
+                format!("{:.1}%", 100.0 * worst(s)),
+            ),
+            false => ("–".into(), "–".into()),
+        };
+        let (half, last) = (
+            format!("{:.4}", s.energy[k / 2]),
+            format!("{:.4}", s.energy[k - 1]),
+        );
         vec![
-            b.label.into(),
             label.to_owned(),
-            format!("{:.4}", s.energy[m / 2]),
-            format!("{:.4}", s.energy[m - 1]),
-            if vs {
-                pct(s.energy[m - 1] / r.energy[m - 1] - 1.0)
-            } else {
-                "–".into()
-            },
-            if vs {
-                format!("{:.1}%", 100.0 * worst)
-            } else {
-                "–".into()
-            },
-            format!("{}", s.impacts[m - 1]),
+            half,
+            last,
+            end,
+            worst,
+            format!("{}", s.impacts[k - 1]),
         ]
     };
-    out.row("cooling", row("reference", &r, false));
+    j.row("cooling", row("reference", &r, false));
     for i in 0..r.t.len() {
-        out.csv(
+        j.csv(
             "cooling",
-            b.label,
             Method::Reference,
             1,
             r.t[i],
             "energy",
             r.energy[i],
         );
-        out.point(&panel, Method::Reference, r.t[i], r.energy[i]);
+        j.point("cooling", Method::Reference, r.t[i], r.energy[i]);
     }
     if let Some(err) = &r.error {
-        out.notes
-            .push(format!("cooling {} reference: {err}", b.label));
+        j.note("cooling", " reference", err);
     }
     let floor = worst(&runs[0].2);
-    for (label, method, s) in &runs {
-        out.row("cooling", row(label, s, true));
-        let dev = worst(s);
-        out.error(
+    for (label, m, s) in &runs {
+        j.row("cooling", row(label, s, true));
+        j.error(
+            *m,
             "cooling",
-            &b,
-            *method,
             1,
             "worst_energy_deviation",
-            dev,
+            worst(s),
             Some(floor),
         );
-        if *method != Method::Reference {
+        if *m != Method::Reference {
             for i in 0..s.t.len() {
-                out.csv(
-                    "cooling",
-                    b.label,
-                    *method,
-                    1,
-                    s.t[i],
-                    "energy",
-                    s.energy[i],
-                );
-                out.point(&panel, *method, s.t[i], s.energy[i]);
+                j.csv("cooling", *m, 1, s.t[i], "energy", s.energy[i]);
+                j.point("cooling", *m, s.t[i], s.energy[i]);
             }
         }
-        if let Some(d) = &s.diagnostics {
-            out.notes.push(format!("cooling {} {label}: {d}", b.label));
-        }
-        if let Some(err) = &s.error {
-            out.notes
-                .push(format!("cooling {} {label}: {err}", b.label));
+        for text in s.diagnostics.iter().chain(&s.error) {
+            j.note("cooling", &format!(" {label}"), text);
         }
     }
-    Ok(out)
+    Ok(j.out)
 }
 
 /// One Z run: the case (dimension, η, box of `ell` with `n` balls) with
 /// one simulator.
 pub fn z_job<const D: usize>(
     b: Backend<D>,
-    eta: f64,
-    n: usize,
-    ell: V<D>,
+    (eta, n, ell): (f64, usize, V<D>),
     method: Method,
     sizes: &Sizes,
 ) -> Result<Out, HarnessError> {
@@ -470,17 +449,7 @@ pub fn z_job<const D: usize>(
         (_, 2) => (eq_rapier, sizes.z_rapier_t, 10),
         _ => (eq_rapier, 0.4 * sizes.z_rapier_t, 10),
     };
-    let z = z_run(
-        &b,
-        &setup,
-        method,
-        ell,
-        t_eq,
-        t_run,
-        blocks,
-        0.5,
-        sizes.w_min,
-    )?;
+    let z = z_run(&b, &setup, method, ell, (t_eq, t_run, blocks), sizes.w_min)?;
     let lengths: Vec<String> = ell.iter().map(|x| format!("{x}")).collect();
     let case = format!("{D}D η = {eta}, ℓ = ({})", lengths.join(", "));
     let precision = if method == Method::Reference {
@@ -489,11 +458,13 @@ pub fn z_job<const D: usize>(
         b.precision
     };
     let who = format!("{case}, {} {precision}", method.name());
-    if let Some(err) = &z.error {
-        out.notes.push(format!("Z {who}: {err}"));
-    }
-    if let Some(d) = &z.diagnostics {
-        out.notes.push(format!("Z {who}: {d}"));
+    for text in z
+        .error
+        .iter()
+        .map(|e| e.to_string())
+        .chain(z.diagnostics.clone())
+    {
+        out.notes.push(format!("Z {who}: {text}"));
     }
     out.z.push(ZEntry {
         case,
@@ -512,86 +483,61 @@ pub fn z_job<const D: usize>(
 pub fn z_vs_reference(x: &ZEntry, reference: &ZEntry) -> (f64, f64) {
     let (r, q) = (&x.r, &reference.r);
     let ratio = r.z_single / q.z_single;
-    let err = ratio
-        * ((r.z_single_err / r.z_single).powi(2) + (q.z_single_err / q.z_single).powi(2)).sqrt();
-    (ratio - 1.0, err)
+    let rel = |z: &ZResult| (z.z_single_err / z.z_single).powi(2);
+    (ratio - 1.0, ratio * (rel(r) + rel(q)).sqrt())
 }
 
 /// The summary rows of the Z runs: |single-wall Z vs the reference's − 1|
 /// per case and rapier run, its standard error as the noise floor.
 pub fn z_summary(z: &[ZEntry]) -> Vec<ErrorRow> {
-    let mut rows = Vec::new();
-    for x in z {
-        let Some(mode) = x.method.mode() else {
-            continue;
-        };
-        let reference = z
-            .iter()
-            .find(|y| y.case == x.case && y.method == Method::Reference);
-        if let Some(q) = reference {
-            let (dev, err) = z_vs_reference(x, q);
-            rows.push(ErrorRow {
+    let reference = |x: &ZEntry| {
+        z.iter()
+            .find(|y| y.case == x.case && y.method == Method::Reference)
+    };
+    z.iter()
+        .filter_map(|x| {
+            let (dev, err) = z_vs_reference(x, reference(x)?);
+            Some(ErrorRow {
                 scene: format!("compressibility_{}d_eta{}", x.d, x.eta),
                 dimension: x.d,
                 precision: x.precision,
-                mode,
+                mode: x.method.mode()?,
                 dt_div: 1,
-                quantity: "single_wall_z_vs_reference",
+                quantity: "single_wall_z_vs_reference".to_owned(),
                 error: dev.abs(),
                 noise_floor: Some(err),
-            });
-        }
-    }
-    rows
+            })
+        })
+        .collect()
 }
 
 /// The cost of accuracy in one build: every mode at dt, dt/2, dt/4 and
 /// dt/8, the gas's CPU time against the errors of the gas, one impact and
 /// the cradle.
 pub fn cost_jobs<const D: usize>(b: Backend<D>, sizes: &Sizes) -> Result<Out, HarnessError> {
-    let mut out = Out::default();
-    for method in Method::RAPIER {
+    let mut j = Build::new(&b);
+    for m in Method::RAPIER {
         for div in [1usize, 2, 4, 8] {
             let dt = DT / div as f64;
-            let setup = gas_setup::<D>(sizes.gas_n, 0.0, dt, 1)?;
-            let g = gas_series(&b, &setup, method, sizes.cost_t, 2)?;
+            let g = gas_series(
+                &b,
+                &gas_setup::<D>(sizes.gas_n, 0.0, dt, 1)?,
+                m,
+                sizes.cost_t,
+                2,
+            )?;
             let cost = g.ms_per_step * div as f64 / DT / 1e3; // s per simulated s
             let energy = (g.energy.last().unwrap() - 1.0).abs().max(1e-16);
-            let one = short_run(
-                &b,
-                &two_ball_setup::<D>(10.0, 0.0, 0.6, dt),
-                method,
-                10.0 * DT,
-            )?;
-            let cradle = short_run(&b, &cradle_setup::<D>(dt), method, 30.0 * DT)?;
-            out.row(
-                "cost",
-                vec![
-                    b.label.into(),
-                    method.name().into(),
-                    format!("dt/{div}"),
-                    format!("{}", g.impacts.last().unwrap()),
-                    format!("{:.3}", g.ms_per_step),
-                    format!("{:.3}", cost),
-                    e(energy),
-                    e(one.dv),
-                    e(cradle.dv),
-                ],
-            );
-            let x = cost;
-            out.point(&format!("gas energy error {}", b.label), method, x, energy);
-            out.point(
-                &format!("one impact {}", b.label),
-                method,
-                x,
-                one.dv.max(1e-16),
-            );
-            out.point(
-                &format!("cradle {}", b.label),
-                method,
-                x,
-                cradle.dv.max(1e-16),
-            );
+            let one = short_run(&b, &two_ball_setup::<D>(10.0, 0.0, 0.6, dt), m, 10.0 * DT)?;
+            let cradle = short_run(&b, &cradle_setup::<D>(dt), m, 30.0 * DT)?;
+            let impacts = format!("{}", g.impacts.last().unwrap());
+            let (ms, s) = (format!("{:.3}", g.ms_per_step), format!("{cost:.3}"));
+            let errors = [e(energy), e(one.dv), e(cradle.dv)];
+            let cells = [m.name().into(), format!("dt/{div}"), impacts, ms, s];
+            j.row("cost", cells.into_iter().chain(errors).collect());
+            j.point("gas energy error", m, cost, energy);
+            j.point("one impact", m, cost, one.dv.max(1e-16));
+            j.point("cradle", m, cost, cradle.dv.max(1e-16));
             for (q, v) in [
                 ("ms_per_step", g.ms_per_step),
                 ("cpu_s_per_sim_s", cost),
@@ -599,31 +545,12 @@ pub fn cost_jobs<const D: usize>(b: Backend<D>, sizes: &Sizes) -> Result<Out, Ha
                 ("impact_velocity_error", one.dv),
                 ("cradle_velocity_error", cradle.dv),
             ] {
-                out.csv("cost", b.label, method, div, dt, q, v);
+                j.csv("cost", m, div, dt, q, v);
             }
-            out.error("gas", &b, method, div, "energy_error", energy, None);
-            out.error(
-                "one_impact",
-                &b,
-                method,
-                div,
-                "velocity_error",
-                one.dv,
-                None,
-            );
-            out.error("cradle", &b, method, div, "velocity_error", cradle.dv, None);
-            if let Some(mode) = method.mode() {
-                out.costs.push(CostRow {
-                    dimension: D,
-                    precision: b.precision,
-                    mode,
-                    dt_div: div,
-                    balls: sizes.gas_n,
-                    ms_per_step: g.ms_per_step,
-                    cpu_s_per_sim_s: cost,
-                });
-            }
+            j.error(m, "gas", div, "energy_error", energy, None);
+            j.error(m, "one_impact", div, "velocity_error", one.dv, None);
+            j.error(m, "cradle", div, "velocity_error", cradle.dv, None);
         }
     }
-    Ok(out)
+    Ok(j.out)
 }

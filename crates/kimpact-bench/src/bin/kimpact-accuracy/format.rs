@@ -1,7 +1,5 @@
 //! How numbers and tables are written in the markdown.
 
-use std::fmt::Write as _;
-
 /// A number in one-digit scientific notation (`0` for zero).
 pub fn e(x: f64) -> String {
     if x == 0.0 {
@@ -16,17 +14,4 @@ pub fn e(x: f64) -> String {
 /// A relative deviation as a signed percentage.
 pub fn pct(x: f64) -> String {
     format!("{:+.2}%", 100.0 * x)
-}
-
-/// A markdown table.
-pub fn table(header: &[&str], rows: &[Vec<String>]) -> String {
-    let mut s = format!(
-        "| {} |\n|{}\n",
-        header.join(" | "),
-        " --- |".repeat(header.len())
-    );
-    for r in rows {
-        let _ = writeln!(s, "| {} |", r.join(" | "));
-    }
-    s
 }

@@ -13,30 +13,31 @@
 //! `docs/accuracy.csv` (every number of the plots and the time series, long
 //! format: `section,engine,method,dt_div,x,quantity,value`) and
 //! `docs/accuracy-summary.json` (the headline errors per scene, build and
-//! mode, and the cost of each mode). The simulators, scenes and
+//! mode, an [`kimpact_harness::AccuracySummary`]). The simulators, scenes and
 //! measurements are the `kimpact_harness` library of this package.
 
 mod experiments;
 mod format;
 mod plot;
-mod pool;
 mod report;
-mod stats;
-mod summary;
-mod texts;
 mod z;
 
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use clap::Parser;
-use kimpact_harness::{B2_F32, B2_F64, B3_F32, B3_F64, HarnessError, Method};
+use kimpact_harness::{
+    AccuracySummary, B2_F32, B2_F64, B3_F32, B3_F64, HarnessError, Method, WriteError, write_files,
+};
+use rayon::prelude::*;
 
 use experiments::{Out, Sizes, cooling_jobs, cost_jobs, gas_jobs, short_jobs, z_job, z_summary};
-use pool::{Job, run_jobs};
+
+/// A job of the study: it borrows the run's sizes.
+type Job<'a> = Box<dyn FnOnce() -> Result<Out, HarnessError> + Send + 'a>;
 
 /// Every kimpact mode and native rapier against the exact reference.
 #[derive(Parser, Debug)]
@@ -59,13 +60,10 @@ struct Args {
 enum RunError {
     #[error(transparent)]
     Harness(#[from] HarnessError),
-    #[error("plot: {0}")]
-    Plot(String),
-    #[error("{path}: {source}")]
-    Io {
-        path: PathBuf,
-        source: std::io::Error,
-    },
+    #[error("{0}")]
+    Output(String),
+    #[error(transparent)]
+    Write(#[from] WriteError),
 }
 
 fn main() -> ExitCode {
@@ -79,19 +77,11 @@ fn main() -> ExitCode {
     }
 }
 
-/// Write `text` to `path`.
-fn write(path: &Path, text: &str) -> Result<(), RunError> {
-    std::fs::write(path, text).map_err(|source| RunError::Io {
-        path: path.to_owned(),
-        source,
-    })
-}
-
 /// The accuracy jobs, longest first: the reference's Z runs (once per case:
 /// it has no precision to vary), then rapier's in 3D, then in 2D (every mode
 /// in both precisions), the gases, the cooling gases and the short scenes.
-fn jobs<'a>(sizes: &'a Sizes) -> Result<Vec<Job<'a, Result<Out, HarnessError>>>, HarnessError> {
-    let mut jobs: Vec<Job<'a, Result<Out, HarnessError>>> = Vec::new();
+fn jobs<'a>(sizes: &'a Sizes) -> Result<Vec<Job<'a>>, HarnessError> {
+    let mut jobs: Vec<Job<'a>> = Vec::new();
     let (ell2, ell3, ell3_large) = (sizes.ell2, sizes.ell3, sizes.ell3_large);
     let [t2, t3, t3_large] = sizes.calibrate_t;
     // The box sizes that give the wanted bulk packing fractions.
@@ -106,141 +96,141 @@ fn jobs<'a>(sizes: &'a Sizes) -> Result<Vec<Job<'a, Result<Out, HarnessError>>>,
     ];
     let r = Method::Reference;
     jobs.push(Box::new(move || {
-        z_job(B3_F64, 0.3, n3_large, ell3_large, r, sizes)
+        z_job(B3_F64, (0.3, n3_large, ell3_large), r, sizes)
     }));
-    jobs.push(Box::new(move || z_job(B3_F64, 0.3, n3, ell3, r, sizes)));
+    jobs.push(Box::new(move || z_job(B3_F64, (0.3, n3, ell3), r, sizes)));
     for (i, eta) in [0.3, 0.5].into_iter().enumerate() {
         let n = n2[i];
-        jobs.push(Box::new(move || z_job(B2_F64, eta, n, ell2, r, sizes)));
+        jobs.push(Box::new(move || z_job(B2_F64, (eta, n, ell2), r, sizes)));
     }
     for m in Method::RAPIER {
         for b in [B3_F32, B3_F64] {
-            jobs.push(Box::new(move || z_job(b, 0.3, n3, ell3, m, sizes)));
+            jobs.push(Box::new(move || z_job(b, (0.3, n3, ell3), m, sizes)));
         }
     }
     for (i, eta) in [0.3, 0.5].into_iter().enumerate() {
         let n = n2[i];
         for m in Method::RAPIER {
             for b in [B2_F32, B2_F64] {
-                jobs.push(Box::new(move || z_job(b, eta, n, ell2, m, sizes)));
+                jobs.push(Box::new(move || z_job(b, (eta, n, ell2), m, sizes)));
             }
         }
     }
-    for m in Method::RAPIER {
-        jobs.push(Box::new(move || gas_jobs(B2_F32, m, sizes)));
-        jobs.push(Box::new(move || gas_jobs(B2_F64, m, sizes)));
-        jobs.push(Box::new(move || gas_jobs(B3_F32, m, sizes)));
-        jobs.push(Box::new(move || gas_jobs(B3_F64, m, sizes)));
+    // The gases, the cooling gases and the short scenes in every build.
+    macro_rules! each_build {
+        (|$b:ident| $job:expr) => {{
+            jobs.push(Box::new(move || {
+                let $b = B2_F32;
+                $job
+            }));
+            jobs.push(Box::new(move || {
+                let $b = B2_F64;
+                $job
+            }));
+            jobs.push(Box::new(move || {
+                let $b = B3_F32;
+                $job
+            }));
+            jobs.push(Box::new(move || {
+                let $b = B3_F64;
+                $job
+            }));
+        }};
     }
-    jobs.push(Box::new(move || cooling_jobs(B2_F32, sizes)));
-    jobs.push(Box::new(move || cooling_jobs(B2_F64, sizes)));
-    jobs.push(Box::new(move || cooling_jobs(B3_F32, sizes)));
-    jobs.push(Box::new(move || cooling_jobs(B3_F64, sizes)));
-    jobs.push(Box::new(|| short_jobs(B2_F32)));
-    jobs.push(Box::new(|| short_jobs(B2_F64)));
-    jobs.push(Box::new(|| short_jobs(B3_F32)));
-    jobs.push(Box::new(|| short_jobs(B3_F64)));
+    for m in Method::RAPIER {
+        each_build!(|b| gas_jobs(b, m, sizes));
+    }
+    each_build!(|b| cooling_jobs(b, sizes));
+    each_build!(|b| short_jobs(b));
     Ok(jobs)
 }
 
 fn run(args: &Args) -> Result<(), RunError> {
-    let sizes = if args.quick {
-        Sizes::quick()
-    } else {
-        Sizes::full()
-    };
+    let sizes = Sizes::new(args.quick);
     let sizes = &sizes;
     let started = Instant::now();
 
-    // Phase 1: accuracy (parallel jobs; their timings share the cores).
+    // Phase 1: accuracy (jobs on `--threads` threads, longest first; their
+    // timings share the cores).
     let jobs = jobs(sizes)?;
-    let total = jobs.len();
-    let done = AtomicUsize::new(0);
-    let done = &done;
-    let jobs = jobs
-        .into_iter()
-        .map(|j| -> Job<'_, Result<Out, HarnessError>> {
-            Box::new(move || {
-                let o = j();
-                let k = done.fetch_add(1, Ordering::SeqCst) + 1;
-                eprintln!(
-                    "[{:>6.1}s] {k}/{total} jobs",
-                    started.elapsed().as_secs_f64()
-                );
-                o
-            })
-        })
-        .collect();
-    let mut outs = run_jobs(jobs, args.threads)
-        .into_iter()
-        .collect::<Result<Vec<Out>, HarnessError>>()?;
+    let (total, done) = (jobs.len(), AtomicUsize::new(0));
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads.max(1))
+        .build()
+        .map_err(|e| RunError::Output(format!("cannot start the worker threads: {e}")))?;
+    let outs: Result<Vec<Out>, HarnessError> = pool.install(|| {
+        let run = |job: Job<'_>| {
+            let out = job();
+            let k = done.fetch_add(1, Ordering::SeqCst) + 1;
+            let t = started.elapsed().as_secs_f64();
+            eprintln!("[{t:>6.1}s] {k}/{total} jobs");
+            out
+        };
+        // One job per task, taken in order: the longest start first.
+        jobs.into_par_iter().with_max_len(1).map(run).collect()
+    });
+    let mut all = Out::default();
+    outs?.into_iter().for_each(|o| all.absorb(o));
     // Phase 2: the cost of accuracy, one job at a time so that the timings
     // do not share the cores with other jobs of this program.
-    eprintln!(
-        "[{:>6.1}s] cost of accuracy (one thread)",
-        started.elapsed().as_secs_f64()
-    );
-    outs.push(cost_jobs(B2_F32, sizes)?);
-    outs.push(cost_jobs(B2_F64, sizes)?);
-    outs.push(cost_jobs(B3_F32, sizes)?);
-    outs.push(cost_jobs(B3_F64, sizes)?);
+    let t = started.elapsed().as_secs_f64();
+    eprintln!("[{t:>6.1}s] cost of accuracy (one thread)");
+    all.absorb(cost_jobs(B2_F32, sizes)?);
+    all.absorb(cost_jobs(B2_F64, sizes)?);
+    all.absorb(cost_jobs(B3_F32, sizes)?);
+    all.absorb(cost_jobs(B3_F64, sizes)?);
     let elapsed = started.elapsed().as_secs_f64();
 
     let mut tables: BTreeMap<String, Vec<Vec<String>>> = BTreeMap::new();
-    let mut csv = vec!["section,engine,method,dt_div,x,quantity,value".to_owned()];
-    let (mut points, mut notes, mut z_results) = (Vec::new(), Vec::new(), Vec::new());
-    let (mut errors, mut costs) = (Vec::new(), Vec::new());
-    for o in outs {
-        for (k, r) in o.rows {
-            tables.entry(k).or_default().push(r);
-        }
-        csv.extend(o.csv);
-        points.extend(o.points);
-        notes.extend(o.notes);
-        z_results.extend(o.z);
-        errors.extend(o.errors);
-        costs.extend(o.costs);
+    for (k, r) in all.rows {
+        tables.entry(k).or_default().push(r);
     }
-    let (z_main, z_checks) = report::z_tables(&z_results);
-    errors.extend(z_summary(&z_results));
+    let (z_main, z_checks) = report::z_tables(&all.z);
+    tables.insert("z".to_owned(), z_main);
+    tables.insert("z_checks".to_owned(), z_checks);
+    all.errors.extend(z_summary(&all.z));
+    let mut csv = csv::Writer::from_writer(Vec::new());
+    let csv_error = |e: csv::Error| RunError::Output(e.to_string());
+    csv.write_record(experiments::CSV_HEADER)
+        .map_err(csv_error)?;
+    for row in &all.csv {
+        csv.serialize(row).map_err(csv_error)?;
+    }
+    let csv = csv
+        .into_inner()
+        .map_err(|e| RunError::Output(e.to_string()))?;
+    let (points, notes) = (all.points, all.notes);
+    let errors = all.errors;
 
-    let dir = &args.out;
-    std::fs::create_dir_all(dir).map_err(|source| RunError::Io {
-        path: dir.clone(),
-        source,
-    })?;
-    let svg = plot::svg(&plot::panels(&points, sizes.gas_n), 3).map_err(RunError::Plot)?;
-    write(&dir.join("accuracy.svg"), &svg)?;
-    write(&dir.join("accuracy.csv"), &(csv.join("\n") + "\n"))?;
-    let summary = summary::Summary {
+    let svg = kimpact_harness::svg(&plot::panels(&points, sizes.gas_n), 3, (460, 320))
+        .map_err(|e| RunError::Output(format!("plot: {e}")))?;
+    let summary = AccuracySummary {
         command: report::command(args.quick),
         quick: args.quick,
         errors,
-        costs,
     };
-    let path = dir.join("accuracy-summary.json");
-    summary::write(&path, &summary).map_err(|source| RunError::Io { path, source })?;
-    let get = |k: &str| tables.get(k).cloned().unwrap_or_default();
+    let summary = serde_json::to_string_pretty(&summary).expect("the summary serializes") + "\n";
+    let dir = &args.out;
     // The hand-written findings between the markers survive regeneration.
-    let md = dir.join("accuracy.md");
-    let old = std::fs::read_to_string(&md).ok();
-    let doc = report::document(
-        &report::findings(old.as_deref()),
-        &get("impact"),
-        &get("cradle"),
-        &get("gas"),
-        &z_main,
-        &z_checks,
-        &get("cooling"),
-        &get("cost"),
-        &notes,
-        &report::machine(),
-        args.quick,
-        args.threads,
+    let md_path = dir.join("accuracy.md");
+    let old = std::fs::read_to_string(&md_path).ok();
+    let doc = report::document(&report::Document {
+        tables: &tables,
+        findings: &report::findings(old.as_deref()),
+        notes: &notes,
+        quick: args.quick,
+        threads: args.threads,
         elapsed,
         sizes,
-    );
-    write(&md, &doc)?;
+    });
+    let (svg_path, csv_path) = (dir.join("accuracy.svg"), dir.join("accuracy.csv"));
+    let json_path = dir.join("accuracy-summary.json");
+    write_files(&[
+        (&svg_path, svg.as_bytes()),
+        (&csv_path, &csv),
+        (&json_path, summary.as_bytes()),
+        (&md_path, doc.as_bytes()),
+    ])?;
     eprintln!(
         "wrote {} (accuracy.md, .svg, .csv, accuracy-summary.json) in {elapsed:.0} s",
         dir.display()

@@ -2,10 +2,8 @@
 //! the wall impulses and the density away from the walls.
 
 use kimpact_harness::{
-    Backend, DT, HarnessError, Method, R, Setup, V, ball_volume, kinetic, z_setup,
+    Backend, DT, HarnessError, Method, R, Setup, V, ball_volume, kinetic, mean_and_error, z_setup,
 };
-
-use crate::stats::mean_and_error;
 
 /// Henderson's equation of state for hard disks.
 fn henderson(eta: f64) -> f64 {
@@ -56,7 +54,7 @@ pub fn calibrate<const D: usize>(
     let mut n = (eta * ell.product() / ball_volume(D, R)).round() as usize;
     for _ in 0..2 {
         let setup = z_setup::<D>(n, ell, 11)?;
-        let z = z_run(b, &setup, Method::Reference, ell, 0.2 * t, t, 4, 0.5, w_min)?;
+        let z = z_run(b, &setup, Method::Reference, ell, (0.2 * t, t, 4), w_min)?;
         if let Some(e) = z.error {
             return Err(e);
         }
@@ -65,37 +63,30 @@ pub fn calibrate<const D: usize>(
     Ok(n)
 }
 
-/// What a Z run measured.
+/// What a Z run measured: its balls; the packing fraction away from the
+/// walls; Z with the walls' excess near their ends eliminated, and its
+/// standard error over the blocks; the naive Z (total wall force over the
+/// whole surface, nominal density N/V); the single-wall Z (force on the
+/// walls of axis 0 over their accessible area, bulk density) and its
+/// standard error; (w, bulk η, Z) for each distance from the walls; the
+/// relative change of kT; the impacts; ms per rapier step (NaN for the
+/// reference); the wall-impulse residual; why the run stopped early and
+/// what the simulator counted that is unusual.
 #[derive(Clone)]
 pub struct ZResult {
-    /// Balls.
     pub n: usize,
-    /// The packing fraction away from the walls.
     pub eta_bulk: f64,
-    /// Z, with the walls' excess near their ends eliminated.
     pub z: f64,
-    /// Standard error of `z` over the blocks.
     pub z_err: f64,
-    /// Total wall force over the whole box surface, nominal density N/V.
     pub z_naive: f64,
-    /// Force on the walls of axis 0 over their accessible area, bulk
-    /// density: no correction for the walls' excess near their ends.
     pub z_single: f64,
-    /// Standard error of `z_single`.
     pub z_single_err: f64,
-    /// (w, bulk η, Z) for every `W`.
     pub by_w: Vec<(f64, f64, f64)>,
-    /// Relative change of kT during the measurement.
     pub kt_drift: f64,
-    /// Impacts in all.
     pub impacts: u64,
-    /// Milliseconds per rapier step (NaN for the reference).
     pub ms_per_step: f64,
-    /// The wall-impulse residual.
     pub residual: f64,
-    /// Why the run stopped early, if it did.
     pub error: Option<HarnessError>,
-    /// What the simulator counted that is unusual.
     pub diagnostics: Option<String>,
 }
 
@@ -113,23 +104,22 @@ fn pressure<const D: usize>(f: &[f64; D], ell: &V<D>) -> f64 {
     }
 }
 
+/// Time units between two samples of the density.
+const SAMPLE: f64 = 0.5;
+
 /// Z from a run: equilibrate for `t_eq`, then measure over `t_run` in
 /// `blocks` blocks, counting the centres in the regions at least `ws(&ell)[i]`
-/// from every wall every `sample` time units. A run that stops early
+/// from every wall every [`SAMPLE`] time units. A run that stops early
 /// returns what it has, with `error` set.
 ///
 /// # Errors
 /// A scene the simulator refuses.
-#[allow(clippy::too_many_arguments)]
 pub fn z_run<const D: usize>(
     b: &Backend<D>,
     setup: &Setup<D>,
     method: Method,
     ell: V<D>,
-    t_eq: f64,
-    t_run: f64,
-    blocks: usize,
-    sample: f64,
+    (t_eq, t_run, blocks): (f64, f64, usize),
     w_min: f64,
 ) -> Result<ZResult, HarnessError> {
     let n = setup.balls.len();
@@ -161,7 +151,7 @@ pub fn z_run<const D: usize>(
     let kt0 = kt(&sim.state());
     let mut last = sim.totals();
     let mut t_last = sim.time();
-    let samples_per_block = ((t_run / blocks as f64) / sample).round().max(1.0) as usize;
+    let samples_per_block = ((t_run / blocks as f64) / SAMPLE).round().max(1.0) as usize;
     let (mut z_blocks, mut single_blocks) = (Vec::new(), Vec::new());
     let (mut sum_f, mut sum_t, mut sum_kt) = ([0.0; D], 0.0, 0.0);
     let mut sum_rho = [0.0; NW];
@@ -169,7 +159,7 @@ pub fn z_run<const D: usize>(
     for _ in 0..blocks {
         let (mut rho, mut temp) = ([0.0; NW], 0.0);
         for _ in 0..samples_per_block {
-            let target = steps_of(sim.time() + sample);
+            let target = steps_of(sim.time() + SAMPLE);
             if let Err(e) = sim.advance_to(target) {
                 out.error = Some(e);
                 return Ok(out);

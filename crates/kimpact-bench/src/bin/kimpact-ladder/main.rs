@@ -1,57 +1,35 @@
 //! `kimpact-ladder`: what each mode's accuracy costs, in one plot.
 //!
 //! ```text
-//! cargo build --release -p kimpact-bench && cargo run --release -p kimpact-bench --bin kimpact-ladder
-//! cargo run --release -p kimpact-bench --bin kimpact-ladder -- --plot-only
+//! cargo run --release -p kimpact-bench --bin kimpact-ladder
 //! ```
 //!
-//! By default it regenerates everything: it runs `kimpact-bench` with the
-//! arguments of the published run (`docs/benchmarks.md`, *The run*) and
-//! copies its `results.csv` and `results.md` into `docs/bench/`, runs
-//! `kimpact-accuracy` (which writes `docs/accuracy.*` and
-//! `docs/accuracy-summary.json`), both found beside this executable; then
-//! it joins the bench's ×native with the accuracy study's errors
-//! (`join.rs` holds every rule) and writes `docs/ladder.svg` (error
-//! against ×native, log scales, per mode and scene) and `docs/ladder.md`
-//! (the joined table). `--plot-only` only reads the existing files and
-//! draws. The outputs are written whole or not at all.
+//! It reads what the bench wrote (`docs/bench/results.csv`, rows of
+//! [`BenchRow`]) and what the accuracy study wrote
+//! (`docs/accuracy-summary.json`, an [`AccuracySummary`]) with the types
+//! that wrote them, joins them (`join.rs` holds every rule) and writes
+//! `docs/ladder.svg` and `docs/ladder.md`, whole or not at all.
 
-mod atomic;
-mod bench;
-mod children;
-mod csv;
-mod error;
 mod join;
 mod page;
 mod plot;
-mod summary;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::Parser;
+use kimpact_harness::{AccuracySummary, BenchRow, write_files};
 
-use error::LadderError;
-
-/// Error against ×native per mode and scene: regenerate the bench's and
-/// the accuracy study's tables, and draw them together.
+/// Error against ×native per mode and scene: the bench's and the accuracy
+/// study's results drawn together.
 #[derive(Parser, Debug)]
 #[command(name = "kimpact-ladder", version, about)]
 struct Args {
-    /// Only read the existing files and draw: run neither kimpact-bench
-    /// nor kimpact-accuracy.
-    #[arg(long)]
-    plot_only: bool,
-    /// Pass `--quick` to kimpact-accuracy (a smoke run whose errors mean
-    /// nothing; it still writes into the summary's folder).
-    #[arg(long, conflicts_with = "plot_only")]
-    quick: bool,
-    /// The bench's CSV (×native per scene and mode); a run replaces it and
-    /// the `.md` beside it.
+    /// The bench's CSV (the command that wrote it is read from the `.md`
+    /// beside it).
     #[arg(long, default_value = "docs/bench/results.csv")]
     bench_csv: PathBuf,
-    /// The accuracy summary (errors per scene and mode); a run writes it,
-    /// with the rest of kimpact-accuracy's files, into its folder.
+    /// The accuracy study's summary.
     #[arg(long, default_value = "docs/accuracy-summary.json")]
     accuracy_json: PathBuf,
     /// The plot to write.
@@ -60,74 +38,89 @@ struct Args {
     /// The page to write.
     #[arg(long, default_value = "docs/ladder.md")]
     md: PathBuf,
-    /// Where kimpact-bench writes its run before its results.csv and
-    /// results.md are copied over --bench-csv (default:
-    /// kimpact-ladder-bench beside the executables).
-    #[arg(long)]
-    bench_out: Option<PathBuf>,
 }
 
-/// The command that made the page, as a reader would type it.
-fn command() -> String {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let mut c = "cargo run --release -p kimpact-bench --bin kimpact-ladder".to_owned();
-    if !args.is_empty() {
-        c.push_str(" -- ");
-        c.push_str(&args.join(" "));
+/// Why the ladder was not drawn (nothing is written then): the file at
+/// fault (an input that cannot be read or breaks a rule of the join, an
+/// output that cannot be drawn or written) and what is wrong, and where.
+#[derive(Debug, thiserror::Error)]
+#[error("{}: {message}", path.display())]
+pub struct LadderError {
+    pub path: PathBuf,
+    pub message: String,
+}
+
+impl LadderError {
+    /// An error in `path`.
+    pub fn new(path: &Path, message: impl ToString) -> Self {
+        let (path, message) = (path.to_owned(), message.to_string());
+        Self { path, message }
     }
-    c
+}
+
+/// The bench's rows at `path`, each with its line.
+fn read_bench(path: &Path) -> Result<Vec<(u64, BenchRow)>, LadderError> {
+    let error = |e| LadderError::new(path, format!("cannot read: {e}"));
+    let bytes = std::fs::read(path).map_err(error)?;
+    let mut reader = csv::Reader::from_reader(bytes.as_slice());
+    let headers = reader
+        .headers()
+        .map_err(|e| LadderError::new(path, e))?
+        .clone();
+    let column = |e: &csv::Error| match e.kind() {
+        csv::ErrorKind::Deserialize { err, .. } => {
+            err.field().and_then(|i| headers.get(i as usize))
+        }
+        _ => None,
+    };
+    let rows = reader.records().map(|record| {
+        let record = record.map_err(|e| LadderError::new(path, e))?;
+        let line = record.position().map_or(0, csv::Position::line);
+        let row = record
+            .deserialize(Some(&headers))
+            .map_err(|e| match column(&e) {
+                Some(c) => LadderError::new(path, format!("column `{c}`: {e}")),
+                None => LadderError::new(path, e),
+            })?;
+        Ok((line, row))
+    });
+    rows.collect()
+}
+
+/// The accuracy summary at `path` (its errors name the entry at fault, as
+/// `errors[5]`).
+fn read_summary(path: &Path) -> Result<AccuracySummary, LadderError> {
+    let error = |e| LadderError::new(path, format!("cannot read: {e}"));
+    let bytes = std::fs::read(path).map_err(error)?;
+    let mut json = serde_json::Deserializer::from_slice(&bytes);
+    serde_path_to_error::deserialize(&mut json).map_err(|e| LadderError::new(path, e))
 }
 
 fn run(args: &Args) -> Result<String, LadderError> {
-    if !args.plot_only {
-        children::regenerate(&children::Plan {
-            bench_csv: args.bench_csv.clone(),
-            accuracy_json: args.accuracy_json.clone(),
-            bench_out: args.bench_out.clone(),
-            quick: args.quick,
-        })?;
-    }
-    let rows = bench::read(&args.bench_csv)?;
-    let summary = summary::read(&args.accuracy_json)?;
+    let rows = read_bench(&args.bench_csv)?;
+    let summary = read_summary(&args.accuracy_json)?;
     let files = join::Files {
         bench: &args.bench_csv,
         accuracy: &args.accuracy_json,
     };
     let joined = join::join(&rows, &summary.errors, files)?;
-    let svg = plot::svg(&joined)?;
-    let command = command();
-    let bench_command = bench::command(&args.bench_csv);
-    let md = page::markdown(
-        &joined,
-        &page::Sources {
-            command: &command,
-            bench: &args.bench_csv,
-            bench_command: bench_command.as_deref(),
-            accuracy: &args.accuracy_json,
-            summary: &summary,
-            svg: &args.svg,
-            md: &args.md,
-        },
-    );
-    atomic::write_all(&[(&args.svg, svg.as_bytes()), (&args.md, md.as_bytes())])?;
+    let svg = plot::svg(&joined).map_err(|e| LadderError::new(&args.svg, e))?;
+    let md = page::markdown(&joined, &summary, files, (&args.svg, &args.md));
+    let written = write_files(&[(&args.svg, svg.as_bytes()), (&args.md, md.as_bytes())]);
+    written.map_err(|e| LadderError::new(&e.path, e.source))?;
     for s in &joined.skipped {
-        eprintln!(
-            "kimpact-ladder: left out {} {} {}: {}",
-            s.scene.label, s.quantity.label, s.mode, s.reason
-        );
+        eprintln!("kimpact-ladder: left out {s}");
     }
+    let (n, skipped) = (joined.points.len(), joined.skipped.len());
     Ok(format!(
-        "wrote {} and {}: {} points, {} left out",
+        "wrote {} and {}: {n} points, {skipped} left out",
         args.svg.display(),
-        args.md.display(),
-        joined.points.len(),
-        joined.skipped.len()
+        args.md.display()
     ))
 }
 
 fn main() -> ExitCode {
-    let args = Args::parse();
-    match run(&args) {
+    match run(&Args::parse()) {
         Ok(done) => {
             eprintln!("kimpact-ladder: {done}");
             ExitCode::SUCCESS

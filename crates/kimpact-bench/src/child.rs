@@ -1,0 +1,157 @@
+//! The child processes of a run: what they measure, their arguments, and
+//! running one (its JSON answer on its last line of output).
+
+use std::process::{Command, ExitCode, Stdio};
+
+use serde::{Deserialize, Serialize};
+
+use crate::report::Group;
+use crate::{Cli, Mode, Precision, Scene, d2, d2_f64, d3, d3_f64};
+
+/// What the measured steps of one world did: their number, the CPU time
+/// of the process per step of each sample (µs), the heap allocations (all
+/// threads) and the impacts the law resolved.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+pub struct Measure {
+    pub steps: usize,
+    pub cpu_us: Vec<f64>,
+    pub allocs: u64,
+    pub impacts: u64,
+}
+
+/// A timing child: native's measure and the mode's, in lockstep in one
+/// process.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Pair {
+    pub native: Measure,
+    pub law: Measure,
+}
+
+/// A memory child: the allocations of one mode alone in its measured
+/// steps, its `VmHWM` after them (KiB) and, from a second pass classifying
+/// every allocation, (classified, kimpact's).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Solo {
+    pub allocs: u64,
+    pub peak_rss_kib: u64,
+    pub attributed: Option<(u64, u64)>,
+}
+
+/// A child process of this binary with `args`, its JSON answer parsed;
+/// `Err` with the reason when it failed.
+fn spawn<T: serde::de::DeserializeOwned>(args: &[String]) -> Result<T, String> {
+    let exe = std::env::current_exe().map_err(|e| format!("no executable path: {e}"))?;
+    let out = Command::new(exe)
+        .args(args)
+        .stdin(Stdio::null())
+        .output()
+        .map_err(|e| format!("cannot start a child: {e}"))?;
+    if !out.status.success() {
+        let err = String::from_utf8_lossy(&out.stderr);
+        let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
+        return Err(format!(
+            "child failed ({}): {}",
+            out.status,
+            lines.join(" | ")
+        ));
+    }
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let line = stdout.lines().rev().find(|l| l.starts_with('{'));
+    let line = line.ok_or("the child printed no result")?;
+    serde_json::from_str(line).map_err(|e| format!("unreadable child output: {e}"))
+}
+
+/// The arguments of a child (`--pair` or `--solo`) for one configuration.
+fn child_args(cli: &Cli, solo: bool, (scene, balls, precision): Config, mode: Mode) -> Vec<String> {
+    let (steps, warmup) = match solo {
+        true => (cli.memory_steps, cli.memory_warmup.unwrap_or(cli.warmup)),
+        false => (cli.steps, cli.warmup),
+    };
+    let (block, repeats) = match (scene.small(), solo) {
+        (true, false) => (cli.small_block, cli.small_repeats),
+        (true, true) => (cli.small_block, 1),
+        (false, _) => (cli.block, 1),
+    };
+    let kind = if solo { "--solo" } else { "--pair" };
+    let mut args: Vec<String> = [kind, "--scene", scene.name(), "--mode", mode.name()]
+        .map(str::to_owned)
+        .into();
+    args.extend(["--precision".to_owned(), precision.name().to_owned()]);
+    for (flag, value) in [
+        ("--balls", balls),
+        ("--steps", steps),
+        ("--warmup", warmup),
+        ("--block", block),
+        ("--repeats", repeats),
+    ] {
+        args.extend([flag.to_owned(), value.to_string()]);
+    }
+    let flags = [
+        (scene.small(), "--time-blocks"),
+        (cli.hook_native, "--hook-native"),
+        (solo && !cli.no_attribute, "--attribute"),
+    ];
+    args.extend(flags.iter().filter(|f| f.0).map(|f| f.1.to_owned()));
+    args
+}
+
+/// `r`, its error reported on stderr.
+fn logged<T>(r: Result<T, String>) -> Result<T, String> {
+    if let Err(e) = &r {
+        eprintln!("    failed: {e}");
+    }
+    r
+}
+
+/// A scene, its balls and the precision of a run.
+pub type Config = (Scene, usize, Precision);
+
+/// The children of one configuration: `--rounds` timing pairs of each law
+/// mode (native against itself when there is none), then each mode alone;
+/// a child that fails is reported and kept as its error.
+pub fn measure_group(cli: &Cli, config: Config, modes: &[Mode], progress: impl Fn(&str)) -> Group {
+    let law: Vec<Mode> = modes
+        .iter()
+        .copied()
+        .filter(|&m| m != Mode::Native)
+        .collect();
+    let timed = if law.is_empty() {
+        vec![Mode::Native]
+    } else {
+        law
+    };
+    let mut pairs = Vec::new();
+    for _ in 0..cli.rounds.max(1) {
+        for &mode in &timed {
+            progress(&format!("timing native + {}", mode.name()));
+            pairs.push((mode, logged(spawn(&child_args(cli, false, config, mode)))));
+        }
+    }
+    let mut solos = Vec::new();
+    for &mode in modes {
+        progress(&format!("memory of {}", mode.name()));
+        solos.push((mode, logged(spawn(&child_args(cli, true, config, mode)))));
+    }
+    let (scene, balls, precision) = config;
+    Group {
+        scene,
+        precision,
+        balls,
+        modes: modes.to_vec(),
+        pairs,
+        solos,
+    }
+}
+
+/// In a child: run what `--pair` or `--solo` asks and print it as JSON.
+pub fn child_main(cli: &Cli) -> ExitCode {
+    let (scene, precision) = (cli.scene[0], cli.precision[0]);
+    let json = match (scene.dim(), precision) {
+        (2, Precision::F32) => d2::run(cli),
+        (2, Precision::F64) => d2_f64::run(cli),
+        (_, Precision::F32) => d3::run(cli),
+        (_, Precision::F64) => d3_f64::run(cli),
+    };
+    println!("{json}");
+    ExitCode::SUCCESS
+}

@@ -1,0 +1,83 @@
+//! What every tool of the package writes: whole files, each into a
+//! temporary file in its own folder (`tempfile`), renamed into place
+//! (`NamedTempFile::persist`) only once every one is written (on an error
+//! the temporary files are removed and the old files stay); and the
+//! machine a run was on, for the reports' headers.
+
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+
+/// A file that could not be written.
+#[derive(Debug, thiserror::Error)]
+#[error("cannot write {}: {source}", path.display())]
+pub struct WriteError {
+    /// The file.
+    pub path: PathBuf,
+    /// The file system's reason.
+    pub source: std::io::Error,
+}
+
+/// Write every `(path, contents)` whole, all or none (as far as the file
+/// system allows: a rename that fails after others succeeded leaves
+/// those). Missing folders are created.
+///
+/// # Errors
+/// [`WriteError`] naming the first file that could not be written.
+pub fn write_files(files: &[(&Path, &[u8])]) -> Result<(), WriteError> {
+    let mut temps = Vec::with_capacity(files.len());
+    for &(path, contents) in files {
+        let error = |source| WriteError {
+            path: path.to_owned(),
+            source,
+        };
+        let folder = match path.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p,
+            _ => Path::new("."),
+        };
+        std::fs::create_dir_all(folder).map_err(error)?;
+        let mut temp = tempfile::NamedTempFile::new_in(folder).map_err(error)?;
+        temp.write_all(contents).map_err(error)?;
+        // A temporary file is private (0600); the results are not.
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            let public = std::fs::Permissions::from_mode(0o644);
+            temp.as_file().set_permissions(public).map_err(error)?;
+        }
+        temps.push(temp);
+    }
+    for (&(path, _), temp) in files.iter().zip(temps) {
+        temp.persist(path).map_err(|e| WriteError {
+            path: path.to_owned(),
+            source: e.error,
+        })?;
+    }
+    Ok(())
+}
+
+/// The machine and the compiler, for the header.
+pub fn machine() -> String {
+    let cpu = std::fs::read_to_string("/proc/cpuinfo").ok().and_then(|c| {
+        let line = c.lines().find(|l| l.starts_with("model name"))?;
+        Some(line.split(':').nth(1)?.trim().to_owned())
+    });
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let run = |c: &str, a: &str| std::process::Command::new(c).arg(a).output().ok();
+    let out = |o: Option<std::process::Output>| {
+        o.map(|o| String::from_utf8_lossy(&o.stdout).into_owned())
+            .unwrap_or_default()
+    };
+    // `rustc 1.95.0` without its commit and date: the docs name no commits.
+    let rustc: Vec<String> = out(run("rustc", "-V"))
+        .split(' ')
+        .take(2)
+        .map(str::to_owned)
+        .collect();
+    let cpu = cpu.as_deref().unwrap_or("unknown CPU");
+    let os = out(run("uname", "-sr"));
+    format!(
+        "{cpu}, {cores} cores available to the process, {}; {}",
+        os.trim(),
+        rustc.join(" ")
+    )
+}
