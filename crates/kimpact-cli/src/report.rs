@@ -238,7 +238,7 @@ pub struct Checks {
     /// rapier's integrator explains. Negative: energy lost in rapier's
     /// contacts (all of it in native mode: restitution below 1, resting
     /// contacts, friction), or in an impact's change of velocity under
-    /// gravity (see docs/scenes.md); positive: energy created, which no mode
+    /// gravity (see docs/report.md); positive: energy created, which no mode
     /// should do. Warned about beyond `tolerance · energy_scale`.
     pub energy_unexplained: f64,
     /// The largest `Σ ½ m |v|² + Σ m |g·x|` over the run's steps (rotation
@@ -258,7 +258,7 @@ pub struct Checks {
 }
 
 /// The least relative tolerance of the energy and momentum warnings in f64
-/// scenes (docs/scenes.md, "The energy balance").
+/// scenes (docs/report.md, "The energy balance").
 pub const TOLERANCE_F64: f64 = 1e-9;
 
 /// The same in f32 scenes.
@@ -553,7 +553,7 @@ fn added(scene: &Scene, run: &RunOutput) -> Vec<String> {
 const LOST: &str = "energy lost, for example in rapier's contacts (restitution below 1, friction, \
      resting or simultaneous contacts), in rapier's joints, to sleeping bodies, to rapier's speed \
      cap, or at impacts under gravity (an impact changes the integrator's energy by (h/2) m g·Δv, \
-     docs/scenes.md, \"The energy balance\"): `kimpact compare` shows which modes lose it, and \
+     docs/report.md, \"The energy balance\"): `kimpact compare` shows which modes lose it, and \
      running the scene without an effect (`effects`) shows which effect does";
 
 /// The cause and the remedy of energy created (a warning's end).
