@@ -1,10 +1,10 @@
 //! A bundled scene as a rapier2d world and its kimpact resolver, as the CLI
-//! builds it: the same bodies, shapes, masses, coefficients, effects and
-//! marks. Every law body is marked whatever the starting mode, so that the
+//! builds it: the same bodies, shapes, orientations, masses, coefficients,
+//! effects, joints and marks. Every law body is marked whatever the starting mode, so that the
 //! mode can change while the scene runs (in native mode kimpact leaves the
 //! marked pairs to rapier).
 
-use kimpact_scene::{CombineRule, Effect, Scene, Shape};
+use kimpact_scene::{CombineRule, Effect, JointEnd, JointKind, Scene, Shape};
 use kimpact2d::math::{Real, Vector};
 use kimpact2d::rapier::prelude::*;
 use kimpact2d::{Config, Kimpact, Law, Material, Mode};
@@ -71,6 +71,7 @@ pub fn build(scene: &Scene, mode: Mode) -> Result<Built, BuildError> {
     let spin = scene.active(Effect::Spin);
     let friction = scene.active(Effect::Friction);
     let ccd = scene.ccd_flags();
+    let mut handles = Vec::with_capacity(scene.bodies.len());
     for (i, b) in scene.bodies.iter().enumerate() {
         let mut rb = if b.fixed {
             RigidBodyBuilder::fixed()
@@ -78,7 +79,9 @@ pub fn build(scene: &Scene, mode: Mode) -> Result<Built, BuildError> {
             RigidBodyBuilder::dynamic()
         }
         .translation(vector(&b.position))
+        .rotation(b.rotation[0] as Real)
         .linvel(vector(&b.velocity))
+        .angvel(b.angular_velocity[0] as Real)
         .ccd_enabled(ccd[i]);
         if !spin && !b.fixed {
             rb = rb.lock_rotations();
@@ -86,13 +89,24 @@ pub fn build(scene: &Scene, mode: Mode) -> Result<Built, BuildError> {
         let mut co = match &b.shape {
             Shape::Ball { radius } => ColliderBuilder::ball(*radius as Real),
             Shape::Box { half_extents: h } => ColliderBuilder::cuboid(h[0] as Real, h[1] as Real),
+            Shape::Capsule {
+                half_height,
+                radius,
+            } => ColliderBuilder::capsule_y(*half_height as Real, *radius as Real),
+            Shape::Convex { points } => {
+                let points: Vec<Vector> = points.iter().map(|p| vector(p)).collect();
+                ColliderBuilder::convex_hull(&points)
+                    .expect("the scene's points were checked to span an area")
+            }
         }
         .restitution(b.restitution as Real)
+        .restitution_combine_rule(combine_rule(b.restitution_combine))
         .friction(if friction { b.friction as Real } else { 0.0 });
         if let Some(m) = b.mass {
             co = co.mass(m as Real);
         }
-        let (_, c) = world.insert(rb, co);
+        let (h, c) = world.insert(rb, co);
+        handles.push(h);
         let material = match scene.effective_material(i) {
             Some(m) => Some(
                 Material::new(m.dissipation as Real, m.wall_dissipation as Real)
@@ -108,6 +122,61 @@ pub fn build(scene: &Scene, mode: Mode) -> Result<Built, BuildError> {
             _ => Ok(()),
         }
         .expect("inserted just above");
+    }
+    // Joints, as the CLI builds them: a world end is a fixed body without a
+    // collider at the world anchor.
+    for j in &scene.joints {
+        let mut end = |e: JointEnd, anchor: &[f64]| match e {
+            JointEnd::World => (
+                world
+                    .bodies
+                    .insert(RigidBodyBuilder::fixed().translation(vector(anchor))),
+                Vector::ZERO,
+            ),
+            JointEnd::Body(i) => (handles[i], vector(anchor)),
+        };
+        let (h1, a1) = end(j.body1, &j.anchor1);
+        let (h2, a2) = end(j.body2, &j.anchor2);
+        let limits = |l: &[f64; 2]| [l[0] as Real, l[1] as Real];
+        let data: GenericJoint = match &j.kind {
+            JointKind::Fixed => FixedJointBuilder::new()
+                .local_anchor1(a1)
+                .local_anchor2(a2)
+                .contacts_enabled(j.contacts_enabled)
+                .into(),
+            // A 2D scene has no spherical joint (the validator says so): the
+            // 2D joint that turns freely about its anchor is the revolute.
+            JointKind::Revolute { .. } | JointKind::Spherical => {
+                let l = match &j.kind {
+                    JointKind::Revolute { limits, .. } => *limits,
+                    _ => None,
+                };
+                let mut b = RevoluteJointBuilder::new()
+                    .local_anchor1(a1)
+                    .local_anchor2(a2)
+                    .contacts_enabled(j.contacts_enabled);
+                if let Some(l) = l {
+                    b = b.limits(limits(&l));
+                }
+                b.into()
+            }
+            JointKind::Prismatic { axis, limits: l } => {
+                let mut b = PrismaticJointBuilder::new(vector(axis))
+                    .local_anchor1(a1)
+                    .local_anchor2(a2)
+                    .contacts_enabled(j.contacts_enabled);
+                if let Some(l) = l {
+                    b = b.limits(limits(l));
+                }
+                b.into()
+            }
+            JointKind::Rope { max_distance } => RopeJointBuilder::new(*max_distance as Real)
+                .local_anchor1(a1)
+                .local_anchor2(a2)
+                .contacts_enabled(j.contacts_enabled)
+                .into(),
+        };
+        world.impulse_joints.insert(h1, h2, data, true);
     }
     Ok(Built { world, kimpact })
 }

@@ -9,7 +9,8 @@
 //! body shapes and colours (the pictures' colours, [`crate::render::color`],
 //! and the plots' mode colours, [`crate::palette::mode_color`]), the view
 //! (the pictures' projection and bounds), and per mode the positions (and
-//! turning boxes' rotations) at every shown step as little-endian `f32`
+//! rotations of the turning bodies that are not balls) at every shown step
+//! as little-endian `f32`
 //! arrays in base64.
 
 use base64::Engine as _;
@@ -40,7 +41,8 @@ pub const MAX_VALUES: u64 = 500_000;
 pub const PAGE_PANEL_WIDTH: u32 = 560;
 
 /// `f32` values recorded per mode and shown step: the moving bodies'
-/// positions, and the rotation of moving boxes when they may turn.
+/// positions, and the rotation of the moving bodies that are not balls
+/// when they may turn.
 pub fn values_per_step(scene: &Scene) -> u64 {
     let rot = rotation_len(scene);
     scene
@@ -48,7 +50,7 @@ pub fn values_per_step(scene: &Scene) -> u64 {
         .iter()
         .filter(|b| !b.fixed)
         .map(|b| {
-            let turning = matches!(b.shape, Shape::Box { .. }) && rot > 0;
+            let turning = !matches!(b.shape, Shape::Ball { .. }) && rot > 0;
             scene.dim as u64 + if turning { rot as u64 } else { 0 }
         })
         .sum()
@@ -80,14 +82,20 @@ pub fn stride(steps: u64, values: u64, modes: u64) -> u64 {
 struct PageBody {
     /// Its label, if any.
     name: Option<String>,
-    /// `"ball"` or `"box"`.
+    /// `"ball"`, `"box"`, `"capsule"` or `"convex"`.
     shape: &'static str,
     /// Ball radius.
     #[serde(skip_serializing_if = "Option::is_none")]
     radius: Option<f64>,
-    /// Box half extents.
+    /// Other shapes: points in the body's frame whose hull, turned and
+    /// projected, is drawn ([`crate::scene::Shape::outline`]).
     #[serde(skip_serializing_if = "Option::is_none")]
-    half_extents: Option<Vec<f64>>,
+    outline: Option<Vec<Vec<f64>>>,
+    /// The orientation a body keeps when its rotation is not recorded
+    /// (fixed, or rotations locked): 2D `[angle]`, 3D quaternion `[x, y,
+    /// z, w]`; `None`: unrotated.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    rotation: Option<Vec<f64>>,
     /// Fixed: drawn first at its position, which never changes.
     fixed: bool,
     /// `#rrggbb`, as in the pictures.
@@ -213,15 +221,16 @@ pub fn page(
         .iter()
         .enumerate()
         .map(|(i, b)| {
-            let (shape, radius, half_extents) = match &b.shape {
-                Shape::Ball { radius } => ("ball", Some(*radius), None),
-                Shape::Box { half_extents } => ("box", None, Some(half_extents.clone())),
+            let (radius, outline) = match &b.shape {
+                Shape::Ball { radius } => (Some(*radius), None),
+                other => (None, Some(other.outline(scene.dim))),
             };
+            let shape = b.shape.name();
             let m = (!b.fixed).then(|| {
                 moving += 1;
                 moving - 1
             });
-            let t = (!b.fixed && shape == "box" && rot > 0).then(|| {
+            let t = (!b.fixed && outline.is_some() && rot > 0).then(|| {
                 turning += 1;
                 turning - 1
             });
@@ -229,7 +238,8 @@ pub fn page(
                 name: b.name.clone(),
                 shape,
                 radius,
-                half_extents,
+                outline,
+                rotation: b.rotated().then(|| orientation(&b.rotation)),
                 fixed: b.fixed,
                 color: hex(render::color(scene, i)),
                 position: b.position.clone(),
@@ -313,6 +323,19 @@ pub fn page(
             1,
         )
         .replacen(DATA_SLOT, &json, 1))
+}
+
+/// A scene rotation (2D `[angle]`, 3D rotation vector) as the page turns
+/// bodies: 2D `[angle]`, 3D quaternion `[x, y, z, w]`.
+fn orientation(rotation: &[f64]) -> Vec<f64> {
+    use kimpact::nalgebra::{UnitQuaternion, Vector3};
+    match rotation {
+        [x, y, z] => {
+            let q = UnitQuaternion::from_scaled_axis(Vector3::new(*x, *y, *z));
+            vec![q.i, q.j, q.k, q.w]
+        }
+        _ => rotation.to_vec(),
+    }
 }
 
 #[cfg(test)]

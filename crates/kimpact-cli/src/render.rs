@@ -32,11 +32,7 @@ pub fn bounds(scene: &Scene, frames: &[&Frame]) -> Bounds {
             }
         }
     };
-    let half: Vec<Vec<f64>> = scene
-        .bodies
-        .iter()
-        .map(|b| b.shape.half_box(scene.dim))
-        .collect();
+    let half: Vec<Vec<f64>> = scene.bodies.iter().map(|b| b.half_box(scene.dim)).collect();
     for (b, h) in scene.bodies.iter().zip(&half) {
         grow(&b.position, h);
     }
@@ -214,20 +210,12 @@ pub fn frame(scene: &Scene, bodies: &[BodyState], b: &Bounds) -> Option<Pixmap> 
                 let pr = (radius * scale).max(0.8) as f32;
                 PathBuilder::from_circle(x, y, pr)
             }
-            Shape::Box { half_extents } => {
-                let corners = 1usize << scene.dim;
-                let pts: Vec<(f32, f32)> = (0..corners)
-                    .map(|c| {
-                        let local: Vec<f64> = (0..scene.dim)
-                            .map(|k| {
-                                if c >> k & 1 == 1 {
-                                    half_extents[k]
-                                } else {
-                                    -half_extents[k]
-                                }
-                            })
-                            .collect();
-                        let off = rotate(&s.rotation, &local);
+            shape => {
+                let pts: Vec<(f32, f32)> = shape
+                    .outline(scene.dim)
+                    .iter()
+                    .map(|local| {
+                        let off = rotate(&s.rotation, local);
                         let world: Vec<f64> =
                             s.position.iter().zip(&off).map(|(p, o)| p + o).collect();
                         map(&world)

@@ -2,7 +2,7 @@
 
 use serde::Serialize;
 
-use crate::scene::{Effect, Precision, Scene, Shape};
+use crate::scene::{Effect, Precision, Scene};
 use crate::sim::{RunOutput, Sample};
 
 /// The report of one run. Same scene, same mode, same build: identical
@@ -50,7 +50,7 @@ pub struct Report {
 pub struct BodyReport {
     /// The body's label, if any.
     pub name: Option<String>,
-    /// `"ball"` or `"box"`.
+    /// `"ball"`, `"box"`, `"capsule"` or `"convex"`.
     pub shape: &'static str,
     /// Mass as simulated (`null` for fixed bodies).
     pub mass: Option<f64>,
@@ -62,6 +62,46 @@ pub struct BodyReport {
     pub position: Vec<f64>,
     /// Final velocity.
     pub velocity: Vec<f64>,
+    /// Final orientation, as scene files write it: 2D the angle in
+    /// radians, 3D the rotation vector (axis times angle).
+    pub rotation: Angular,
+    /// Final angular velocity in rad/s: 2D a number, 3D a vector (world
+    /// frame).
+    pub angular_velocity: Angular,
+}
+
+/// A rotation or an angular velocity: a number in 2D, a vector in 3D.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum Angular {
+    /// 2D.
+    Scalar(f64),
+    /// 3D.
+    Vector(Vec<f64>),
+}
+
+impl Angular {
+    /// From the simulation's `[x]` (2D) or `[x, y, z]` (3D).
+    fn of(v: &[f64]) -> Self {
+        match v {
+            [x] => Angular::Scalar(*x),
+            _ => Angular::Vector(v.to_vec()),
+        }
+    }
+
+    /// From the simulation's orientation: `[angle]` (2D) or the quaternion
+    /// `[x, y, z, w]` (3D), as its rotation vector.
+    fn rotation(r: &[f64]) -> Self {
+        use kimpact::nalgebra::{Quaternion, UnitQuaternion};
+        match r {
+            [x, y, z, w] => {
+                let q = UnitQuaternion::from_quaternion(Quaternion::new(*w, *x, *y, *z));
+                let v = q.scaled_axis();
+                Angular::Vector(vec![v.x, v.y, v.z])
+            }
+            _ => Angular::of(r),
+        }
+    }
 }
 
 /// Energies (joules in SI scenes).
@@ -198,7 +238,7 @@ pub struct Checks {
     /// rapier's integrator explains. Negative: energy lost in rapier's
     /// contacts (all of it in native mode: restitution below 1, resting
     /// contacts, friction), or in an impact's change of velocity under
-    /// gravity (see docs/scenes.md); positive: energy created, which no mode
+    /// gravity (see docs/report.md); positive: energy created, which no mode
     /// should do. Warned about beyond `tolerance · energy_scale`.
     pub energy_unexplained: f64,
     /// The largest `Σ ½ m |v|² + Σ m |g·x|` over the run's steps (rotation
@@ -218,7 +258,7 @@ pub struct Checks {
 }
 
 /// The least relative tolerance of the energy and momentum warnings in f64
-/// scenes (docs/scenes.md, "The energy balance").
+/// scenes (docs/report.md, "The energy balance").
 pub const TOLERANCE_F64: f64 = 1e-9;
 
 /// The same in f32 scenes.
@@ -267,6 +307,8 @@ pub fn build(scene: &Scene, run: &RunOutput) -> Report {
             law: b.law && !b.fixed,
             position: s.position.clone(),
             velocity: s.velocity.clone(),
+            rotation: Angular::rotation(&s.rotation),
+            angular_velocity: Angular::of(&s.angular_velocity),
         })
         .collect();
     let non_finite = run
@@ -511,7 +553,7 @@ fn added(scene: &Scene, run: &RunOutput) -> Vec<String> {
 const LOST: &str = "energy lost, for example in rapier's contacts (restitution below 1, friction, \
      resting or simultaneous contacts), in rapier's joints, to sleeping bodies, to rapier's speed \
      cap, or at impacts under gravity (an impact changes the integrator's energy by (h/2) m g·Δv, \
-     docs/scenes.md, \"The energy balance\"): `kimpact compare` shows which modes lose it, and \
+     docs/report.md, \"The energy balance\"): `kimpact compare` shows which modes lose it, and \
      running the scene without an effect (`effects`) shows which effect does";
 
 /// The cause and the remedy of energy created (a warning's end).
@@ -543,13 +585,10 @@ fn fixed_box(scene: &Scene) -> Option<(Vec<f64>, Vec<f64>)> {
     let mut lo = vec![f64::INFINITY; scene.dim];
     let mut hi = vec![f64::NEG_INFINITY; scene.dim];
     for b in scene.bodies.iter().filter(|b| b.fixed) {
-        let h = match &b.shape {
-            Shape::Ball { radius } => vec![*radius; scene.dim],
-            Shape::Box { half_extents } => half_extents.clone(),
-        };
+        let (l, h) = b.aabb(scene.dim);
         for k in 0..scene.dim {
-            lo[k] = lo[k].min(b.position[k] - h[k]);
-            hi[k] = hi[k].max(b.position[k] + h[k]);
+            lo[k] = lo[k].min(l[k]);
+            hi[k] = hi[k].max(h[k]);
         }
     }
     let inside = scene

@@ -127,7 +127,7 @@ fn a_free_fall_is_explained_by_the_integrator_in_every_mode() {
     }
 }
 
-/// docs/scenes.md's tolerance: `max(base, u · steps · substeps)`, base 1e-9
+/// docs/report.md's tolerance: `max(base, u · steps · substeps)`, base 1e-9
 /// (f64) or 1e-5 (f32), `u` the unit roundoff 2⁻⁵³ or 2⁻²⁴.
 fn documented_tolerance(precision: &str, r: &Value) -> f64 {
     let n = r["steps"].as_u64().unwrap() as f64 * r["setup"]["substeps"].as_u64().unwrap() as f64;

@@ -171,10 +171,10 @@ impl Scene {
         let mut lo = vec![f64::INFINITY; self.dim];
         let mut hi = vec![f64::NEG_INFINITY; self.dim];
         for b in &self.bodies {
-            let h = b.shape.half_box(self.dim);
+            let (l, h) = b.aabb(self.dim);
             for k in 0..self.dim {
-                lo[k] = lo[k].min(b.position[k] - h[k]);
-                hi[k] = hi[k].max(b.position[k] + h[k]);
+                lo[k] = lo[k].min(l[k]);
+                hi[k] = hi[k].max(h[k]);
             }
         }
         (lo, hi)

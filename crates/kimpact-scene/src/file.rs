@@ -131,16 +131,28 @@ pub struct MaterialFile {
 pub struct BodyFile {
     /// A label for messages and pictures.
     pub name: Option<String>,
-    /// `"ball"` or `"box"`.
+    /// `"ball"`, `"box"`, `"capsule"` or `"convex"`.
     pub shape: Option<String>,
-    /// Ball radius.
+    /// Ball and capsule radius.
     pub radius: Option<f64>,
     /// Box half extents (one per dimension).
     pub half_extents: Option<Vec<f64>>,
-    /// Centre position.
+    /// Capsule: half the distance between its two end centres, along the
+    /// body's local y axis.
+    pub half_height: Option<f64>,
+    /// Convex shape: points in the body's frame (`dim` components each),
+    /// whose convex hull is the shape.
+    pub points: Option<Vec<Vec<f64>>>,
+    /// Centre position (the body's origin).
     pub position: Option<Vec<f64>>,
     /// Initial velocity (default zero).
     pub velocity: Option<Vec<f64>>,
+    /// Initial orientation: 2D an angle in radians, 3D a rotation vector
+    /// (axis times angle). Default none.
+    pub rotation: Option<Angular>,
+    /// Initial angular velocity in rad/s: 2D a number, 3D a vector (world
+    /// frame). Default zero.
+    pub angular_velocity: Option<Angular>,
     /// Mass (required for bodies that are not fixed).
     pub mass: Option<f64>,
     /// Fixed (immovable) body (default false).
@@ -244,6 +256,48 @@ impl<'de> Deserialize<'de> for BodyRef {
             }
             fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<BodyRef, E> {
                 Ok(BodyRef::Name(v.to_owned()))
+            }
+        }
+        de.deserialize_any(Visitor)
+    }
+}
+
+/// A rotation or an angular velocity as written: a number (2D) or a list
+/// of numbers (3D).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Angular {
+    /// A 2D angle or angular velocity.
+    Scalar(f64),
+    /// A 3D rotation vector or angular velocity.
+    Vector(Vec<f64>),
+}
+
+impl<'de> Deserialize<'de> for Angular {
+    fn deserialize<D: serde::Deserializer<'de>>(de: D) -> Result<Self, D::Error> {
+        struct Visitor;
+        impl<'de> serde::de::Visitor<'de> for Visitor {
+            type Value = Angular;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("a number (2D) or a list of 3 numbers (3D)")
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<Angular, E> {
+                Ok(Angular::Scalar(v))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<Angular, E> {
+                Ok(Angular::Scalar(v as f64))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Angular, E> {
+                Ok(Angular::Scalar(v as f64))
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<Angular, A::Error> {
+                let mut out = Vec::new();
+                while let Some(x) = seq.next_element::<f64>()? {
+                    out.push(x);
+                }
+                Ok(Angular::Vector(out))
             }
         }
         de.deserialize_any(Visitor)

@@ -225,14 +225,29 @@ impl Checker<'_> {
         let world = |end: JointEnd, anchor: &[f64]| -> Vec<f64> {
             match end {
                 JointEnd::World => anchor.to_vec(),
-                JointEnd::Body(b) => bodies[b]
-                    .position
-                    .iter()
-                    .zip(anchor)
-                    .map(|(p, a)| p + a)
-                    .collect(),
+                JointEnd::Body(b) => bodies[b].to_world(anchor),
             }
         };
+        // A joint that holds relative orientations or takes an axis in both
+        // bodies' frames holds at the start only if the frames agree.
+        let rotation = |end: JointEnd| match end {
+            JointEnd::World => None,
+            JointEnd::Body(b) => Some(&bodies[b].rotation).filter(|r| r.iter().any(|x| *x != 0.0)),
+        };
+        let framed = match &j.kind {
+            JointKind::Fixed | JointKind::Prismatic { .. } => true,
+            JointKind::Revolute { axis, .. } => axis.is_some(),
+            JointKind::Spherical | JointKind::Rope { .. } => false,
+        };
+        if framed && rotation(j.body1) != rotation(j.body2) {
+            return self.err(
+                &format!("{}.kind", j.origin),
+                format!(
+                    "a {} joint holds its bodies' frames together, and its bodies start turned differently (`rotation`): give both the same rotation (the world's is none)",
+                    j.kind.name()
+                ),
+            );
+        }
         let p1 = world(j.body1, &j.anchor1);
         let p2 = world(j.body2, &j.anchor2);
         let d: Vec<f64> = p2.iter().zip(&p1).map(|(a, b)| a - b).collect();

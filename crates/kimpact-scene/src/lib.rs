@@ -16,17 +16,20 @@ mod joint;
 mod model;
 mod overlap;
 mod parse;
+mod shape;
 mod validate;
 
 pub use file::{
-    BodyFile, BodyRef, GeneratorFile, JointFile, LawFile, MaterialFile, SceneFile, ViewFile,
+    Angular, BodyFile, BodyRef, GeneratorFile, JointFile, LawFile, MaterialFile, SceneFile,
+    ViewFile,
 };
 pub use kimpact::{FixedPartner, Mode, Precision};
 pub use model::{
     Body, CombineRule, Effect, Joint, JointEnd, JointKind, Material, ParseCombineRuleError, Scene,
-    SceneError, Shape, View,
+    SceneError, View,
 };
 pub use parse::{load, parse};
+pub use shape::{Shape, rotate};
 pub use validate::validate;
 
 /// The most bodies a scene may have.

@@ -5,7 +5,7 @@ use std::fmt;
 
 use kimpact::LawParams;
 
-use crate::{Mode, Precision};
+use crate::{Mode, Precision, Shape};
 
 /// A scene that failed to load.
 #[derive(Debug, Clone, PartialEq)]
@@ -97,49 +97,6 @@ impl std::str::FromStr for CombineRule {
     }
 }
 
-/// A body's shape.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Shape {
-    /// A ball (disk in 2D).
-    Ball {
-        /// Radius.
-        radius: f64,
-    },
-    /// An axis-aligned box.
-    Box {
-        /// Half extents, one per dimension.
-        half_extents: Vec<f64>,
-    },
-}
-
-impl Shape {
-    /// The smallest half size (radius or smallest half extent).
-    pub fn min_size(&self) -> f64 {
-        match self {
-            Shape::Ball { radius } => *radius,
-            Shape::Box { half_extents } => {
-                half_extents.iter().copied().fold(f64::INFINITY, f64::min)
-            }
-        }
-    }
-
-    /// Half extents of the axis-aligned bounding box.
-    pub fn half_box(&self, dim: usize) -> Vec<f64> {
-        match self {
-            Shape::Ball { radius } => vec![*radius; dim],
-            Shape::Box { half_extents } => half_extents.clone(),
-        }
-    }
-
-    /// `"ball"` or `"box"`.
-    pub fn name(&self) -> &'static str {
-        match self {
-            Shape::Ball { .. } => "ball",
-            Shape::Box { .. } => "box",
-        }
-    }
-}
-
 /// A validated body.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Body {
@@ -149,10 +106,16 @@ pub struct Body {
     pub name: Option<String>,
     /// Shape.
     pub shape: Shape,
-    /// Position (length `dim`).
+    /// Position (length `dim`): the body's origin, where its shape's own
+    /// frame sits.
     pub position: Vec<f64>,
     /// Velocity (length `dim`).
     pub velocity: Vec<f64>,
+    /// Orientation: 2D `[angle]` in radians, 3D a rotation vector `[x, y,
+    /// z]` (axis times angle); zero when not written.
+    pub rotation: Vec<f64>,
+    /// Angular velocity in rad/s: 2D `[ω]`, 3D `[x, y, z]` (world frame).
+    pub angular_velocity: Vec<f64>,
     /// Mass (`None` for fixed bodies).
     pub mass: Option<f64>,
     /// Fixed body.

@@ -5,9 +5,25 @@ use std::collections::BTreeSet;
 use crate::check::{Check, Checker};
 use crate::{Body, Shape};
 
-/// Penetration depth of two bodies at their start positions (axis-aligned
-/// boxes), positive when they overlap.
-fn depth(a: &Body, b: &Body) -> f64 {
+/// Penetration depth of two bodies at their start positions, positive when
+/// they overlap: exact for balls and unrotated boxes; for other shapes and
+/// rotated boxes, the depth of their bounding boxes (which may overlap
+/// where the shapes only touch: a conservative check).
+fn depth(a: &Body, b: &Body, dim: usize) -> f64 {
+    let exact = |x: &Body| match x.shape {
+        Shape::Ball { .. } => true,
+        Shape::Box { .. } => !x.rotated(),
+        _ => false,
+    };
+    let boxes = || {
+        let ((lo_a, hi_a), (lo_b, hi_b)) = (a.aabb(dim), b.aabb(dim));
+        (0..dim)
+            .map(|k| (hi_a[k] - lo_b[k]).min(hi_b[k] - lo_a[k]))
+            .fold(f64::INFINITY, f64::min)
+    };
+    if !exact(a) || !exact(b) {
+        return boxes();
+    }
     let d: Vec<f64> = a
         .position
         .iter()
@@ -53,6 +69,7 @@ fn depth(a: &Body, b: &Body) -> f64 {
                 radius + inside
             }
         }
+        _ => boxes(),
     }
 }
 
@@ -86,10 +103,8 @@ pub(crate) fn check_overlaps(
     let boxes: Vec<Vec<f64>> = bodies
         .iter()
         .map(|b| {
-            let h = b.shape.half_box(dim);
-            let lo = (0..dim).map(|k| b.position[k] - h[k]);
-            let hi = (0..dim).map(|k| b.position[k] + h[k]);
-            lo.chain(hi).collect()
+            let (lo, hi) = b.aabb(dim);
+            lo.into_iter().chain(hi).collect()
         })
         .collect();
     let mut order: Vec<usize> = (0..bodies.len()).collect();
@@ -119,7 +134,7 @@ pub(crate) fn check_overlaps(
             }
             let (a, b) = (&bodies[i], &bodies[j]);
             let tol = 1e-4 * a.shape.min_size().min(b.shape.min_size());
-            let d = depth(a, b);
+            let d = depth(a, b, dim);
             if d > tol {
                 let (first, second) = if i < j { (a, b) } else { (b, a) };
                 return c.err(

@@ -176,6 +176,15 @@ pub fn validate(raw: SceneFile, file: &str, name: &str) -> Result<Scene, SceneEr
             if !set.contains(&Effect::Dissipation) && dissipates {
                 warnings.push(format!("{file}: law.dissipation, materials: ignored (elastic law), \"dissipation\" is not in `effects`"));
             }
+            if !set.contains(&Effect::Spin)
+                && bodies
+                    .iter()
+                    .any(|b| b.angular_velocity.iter().any(|w| *w != 0.0))
+            {
+                warnings.push(format!(
+                    "{file}: angular_velocity: ignored (rotations locked), \"spin\" is not in `effects`"
+                ));
+            }
             if !set.contains(&Effect::Friction) && bodies.iter().any(|b| b.friction > 0.0) {
                 warnings.push(format!(
                     "{file}: friction: ignored (zero friction), \"friction\" is not in `effects`"
@@ -199,10 +208,12 @@ pub fn validate(raw: SceneFile, file: &str, name: &str) -> Result<Scene, SceneEr
             }
             // rapier never locks rotations: spin is on wherever something
             // could turn a body (friction, a shape that is not a ball, a
-            // joint).
-            let turns = bodies
-                .iter()
-                .any(|b| !b.fixed && !matches!(b.shape, Shape::Ball { .. }));
+            // joint) or a body turns from the start.
+            let turns = bodies.iter().any(|b| {
+                !b.fixed
+                    && (!matches!(b.shape, Shape::Ball { .. })
+                        || b.angular_velocity.iter().any(|w| *w != 0.0))
+            });
             if set.contains(&Effect::Friction) || turns || !joints.is_empty() {
                 set.insert(Effect::Spin);
             }

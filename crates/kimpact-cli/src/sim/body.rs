@@ -67,7 +67,7 @@ pub(super) fn run(
         } else {
             RigidBodyBuilder::dynamic()
         };
-        let mut rb = rb
+        let mut rb = turned(rb, &b.rotation, &b.angular_velocity)
             .translation(vector(&b.position))
             .linvel(vector(&b.velocity))
             .ccd_enabled(ccd[i])
@@ -199,6 +199,7 @@ pub(super) fn run(
                     position: to_vec(rb.translation()),
                     velocity: to_vec(rb.linvel()),
                     rotation: rotation(rb),
+                    angular_velocity: angular_velocity(rb),
                 }
             })
             .collect()
@@ -224,7 +225,7 @@ pub(super) fn run(
         .iter()
         .map(|b| match b.shape {
             crate::scene::Shape::Ball { radius } => Some(radius),
-            crate::scene::Shape::Box { .. } => None,
+            _ => None,
         })
         .collect();
     let centre =

@@ -17,15 +17,38 @@ fn to_point(v: k::math::Vector) -> super::crossing::Point {
 
 /// The collider of a scene shape.
 fn collider(shape: &crate::scene::Shape) -> k::rapier::prelude::ColliderBuilder {
+    use crate::scene::Shape;
     use k::math::Real;
+    use k::rapier::prelude::ColliderBuilder;
     match shape {
-        crate::scene::Shape::Ball { radius } => {
-            k::rapier::prelude::ColliderBuilder::ball(*radius as Real)
-        }
-        crate::scene::Shape::Box { half_extents: h } => {
-            k::rapier::prelude::ColliderBuilder::cuboid(h[0] as Real, h[1] as Real)
+        Shape::Ball { radius } => ColliderBuilder::ball(*radius as Real),
+        Shape::Box { half_extents: h } => ColliderBuilder::cuboid(h[0] as Real, h[1] as Real),
+        Shape::Capsule {
+            half_height,
+            radius,
+        } => ColliderBuilder::capsule_y(*half_height as Real, *radius as Real),
+        Shape::Convex { points } => {
+            let points: Vec<k::math::Vector> = points.iter().map(|p| vector(p)).collect();
+            ColliderBuilder::convex_hull(&points)
+                .expect("the scene's points were checked to span an area")
         }
     }
+}
+
+/// The scene's rotation (`[angle]`) and angular velocity (`[ω]`) on a body.
+fn turned(
+    rb: k::rapier::prelude::RigidBodyBuilder,
+    rotation: &[f64],
+    angular_velocity: &[f64],
+) -> k::rapier::prelude::RigidBodyBuilder {
+    use k::math::Real;
+    rb.rotation(rotation[0] as Real)
+        .angvel(angular_velocity[0] as Real)
+}
+
+/// The body's angular velocity: `[ω]`.
+fn angular_velocity(rb: &k::rapier::prelude::RigidBody) -> Vec<f64> {
+    vec![rb.angvel() as f64]
 }
 
 /// The body's orientation: `[angle]`.

@@ -18,15 +18,39 @@ fn to_point(v: k::math::Vector) -> super::crossing::Point {
 
 /// The collider of a scene shape.
 fn collider(shape: &crate::scene::Shape) -> k::rapier::prelude::ColliderBuilder {
+    use crate::scene::Shape;
     use k::math::Real;
+    use k::rapier::prelude::ColliderBuilder;
     match shape {
-        crate::scene::Shape::Ball { radius } => {
-            k::rapier::prelude::ColliderBuilder::ball(*radius as Real)
+        Shape::Ball { radius } => ColliderBuilder::ball(*radius as Real),
+        Shape::Box { half_extents: h } => {
+            ColliderBuilder::cuboid(h[0] as Real, h[1] as Real, h[2] as Real)
         }
-        crate::scene::Shape::Box { half_extents: h } => {
-            k::rapier::prelude::ColliderBuilder::cuboid(h[0] as Real, h[1] as Real, h[2] as Real)
+        Shape::Capsule {
+            half_height,
+            radius,
+        } => ColliderBuilder::capsule_y(*half_height as Real, *radius as Real),
+        Shape::Convex { points } => {
+            let points: Vec<k::math::Vector> = points.iter().map(|p| vector(p)).collect();
+            ColliderBuilder::convex_hull(&points)
+                .expect("the scene's points were checked to span a volume")
         }
     }
+}
+
+/// The scene's rotation (a rotation vector) and angular velocity (world
+/// frame) on a body.
+fn turned(
+    rb: k::rapier::prelude::RigidBodyBuilder,
+    rotation: &[f64],
+    angular_velocity: &[f64],
+) -> k::rapier::prelude::RigidBodyBuilder {
+    rb.rotation(vector(rotation)).angvel(vector(angular_velocity))
+}
+
+/// The body's angular velocity: `[x, y, z]`.
+fn angular_velocity(rb: &k::rapier::prelude::RigidBody) -> Vec<f64> {
+    to_vec(rb.angvel())
 }
 
 /// The body's orientation: quaternion `[x, y, z, w]`.

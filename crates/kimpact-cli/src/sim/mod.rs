@@ -17,6 +17,8 @@ pub struct BodyState {
     pub velocity: Vec<f64>,
     /// Orientation: 2D `[angle]`, 3D quaternion `[x, y, z, w]`.
     pub rotation: Vec<f64>,
+    /// Angular velocity: 2D `[ω]`, 3D `[x, y, z]` (world frame).
+    pub angular_velocity: Vec<f64>,
 }
 
 /// Totals over the bodies at one time.
