@@ -117,6 +117,16 @@ fn valid_scene(s: &Scene, file: &str) {
                     "{at}: {half_extents:?}"
                 );
             }
+            Shape::Capsule {
+                half_height,
+                radius,
+            } => assert!(
+                *half_height > 0.0 && *radius > 0.0,
+                "{at}: capsule {half_height} {radius}"
+            ),
+            Shape::Convex { points } => {
+                assert!(points.len() > s.dim, "{at}: {} points", points.len())
+            }
         }
         if b.fixed {
             assert!(b.mass.is_none(), "{at}: fixed body with a mass");

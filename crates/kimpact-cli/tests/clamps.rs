@@ -148,7 +148,6 @@ fn a_large_clamped_share_is_explained_in_the_summary_the_terminal_and_the_report
 /// of what they ask: rounding, and each pair ends plastic (both balls at
 /// half the striker's velocity, to the clamp's e = 10⁻³).
 #[test]
-#[ignore = "needs the adapter's Stats::unmet_dissipation (branch adapter, commit e805ce2)"]
 fn the_law_s_clamps_are_told_from_rounding() {
     let (path, unmet) = oblique();
     for mode in ["restitution", "impulse", "exact"] {
