@@ -57,6 +57,9 @@ pub trait RigidDim<T: RealField + Copy, const D: usize>: sealed::Sealed {
     fn add(a: &Self::Angular, b: &Self::Angular) -> Self::Angular;
     /// Whether every component of `a` is finite.
     fn is_finite(a: &Self::Angular) -> bool;
+    /// The second unit tangent `n̄ × t̄₁` of the contact plane for unit
+    /// `n̄ ⟂ t̄₁` (3D), or `None` (2D: the tangent is a line).
+    fn second_tangent(n: &SVector<T, D>, t1: &SVector<T, D>) -> Option<SVector<T, D>>;
     /// `a` if every component is finite, else
     /// [`LawError::NonFiniteAngularVelocity`] naming the first bad one.
     ///
@@ -121,6 +124,10 @@ impl<T: RealField + Copy> RigidDim<T, 2> for Const<2> {
     #[inline]
     fn is_finite(a: &T) -> bool {
         a.is_finite()
+    }
+    #[inline]
+    fn second_tangent(_: &Vector2<T>, _: &Vector2<T>) -> Option<Vector2<T>> {
+        None
     }
     fn check_angular_velocity(a: T, which: Which) -> Result<T, LawError> {
         if a.is_finite() {
@@ -191,6 +198,10 @@ impl<T: RealField + Copy> RigidDim<T, 3> for Const<3> {
     #[inline]
     fn is_finite(a: &Vector3<T>) -> bool {
         a.iter().all(|x| x.is_finite())
+    }
+    #[inline]
+    fn second_tangent(n: &Vector3<T>, t1: &Vector3<T>) -> Option<Vector3<T>> {
+        Some(n.cross(t1))
     }
     fn check_angular_velocity(a: Vector3<T>, which: Which) -> Result<Vector3<T>, LawError> {
         match a.iter().position(|c| !c.is_finite()) {

@@ -155,4 +155,16 @@ pub enum LawError {
         /// The value given.
         value: f64,
     },
+    /// An impact friction parameter out of its range: `impact_friction`
+    /// (Coulomb's μ) must be finite and `>= 0`, `tangential_restitution`
+    /// (β) in `[−1, 1]`; NaN is neither.
+    #[error("{parameter} must be {expected}, got {value}")]
+    InvalidFriction {
+        /// Which parameter (`impact_friction` or `tangential_restitution`).
+        parameter: &'static str,
+        /// Its range, in words.
+        expected: &'static str,
+        /// The value given.
+        value: f64,
+    },
 }

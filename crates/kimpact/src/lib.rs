@@ -42,6 +42,50 @@
 //! assert!(impact.restitution < 1.0);
 //! # Ok::<(), kimpact::LawError>(())
 //! ```
+//!
+//! ## Rigid bodies and impact friction
+//!
+//! [`Law::resolve_rigid`] applies the same impulse at the contact point of
+//! two rotating bodies ([`RigidBody`]: mass, velocity, angular velocity,
+//! world inverse inertia; [`Contact`]: the arms from each centre of mass
+//! and the normal), with the effective mass `1/m_eff = 1/m₁ + 1/m₂ + a₁ +
+//! a₂`, `aᵢ = (rᵢ × n̄)·Iᵢ⁻¹(rᵢ × n̄)`, and `d` measured on the relative
+//! velocity of the contact points. [`Law::resolve_rigid_with_friction`]
+//! adds Coulomb friction with a tangential restitution
+//! ([`ImpactFriction`], Walton's three-parameter model); the kinetic energy
+//! never rises. See `docs/rigid.md` and `docs/friction.md`.
+//!
+//! ```
+//! use kimpact::{Contact, ImpactFriction, Law, RigidBody};
+//! use kimpact::nalgebra::Vector2;
+//!
+//! // A rod (m = 2, length 1.5) falls flat-ish onto a fixed floor, its left
+//! // end first; the normal points from the rod (a) into the floor (b).
+//! let inverse_inertia = 12.0 / (2.0 * 1.5 * 1.5);
+//! let rod = RigidBody::new(2.0_f64, Vector2::new(0.5, -3.0), 0.0, inverse_inertia)?;
+//! let floor = RigidBody::immovable(Vector2::zeros(), 0.0)?;
+//! let contact = Contact::new(Vector2::new(-0.7, -0.2), Vector2::zeros(), -Vector2::y())?;
+//! // Without friction the end leaves the floor at its approach speed
+//! // (elastic), while the centre may still fall as the rod turns.
+//! let law = Law::elastic();
+//! let impact = law.resolve_rigid(&rod, &floor, &contact).expect("approaching");
+//! let (after, _) = impact.apply(&rod, &floor);
+//! assert!((after.point_velocity(contact.arm_a()).y - 3.0).abs() < 1e-12);
+//! // With impact friction the end's slip is checked too, and the kinetic
+//! // energy (translation and rotation) does not rise.
+//! let friction = ImpactFriction::new(0.3, 0.0)?;
+//! let impact = law
+//!     .resolve_rigid_with_friction(&rod, &floor, &contact, &friction)
+//!     .expect("approaching");
+//! let (after, _) = impact.apply(&rod, &floor);
+//! let energy = |b: &RigidBody<f64, 2>| {
+//!     0.5 * 2.0 * b.velocity().norm_squared()
+//!         + 0.5 / inverse_inertia * b.angular_velocity().powi(2)
+//! };
+//! let lost = energy(&rod) - energy(&after);
+//! assert!(lost >= 0.0 && (lost - impact.dissipated).abs() < 1e-12);
+//! # Ok::<(), kimpact::LawError>(())
+//! ```
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
 
@@ -53,6 +97,7 @@ struct ReadmeDoctests;
 mod body;
 mod dim;
 mod error;
+mod friction;
 mod impact;
 mod law;
 mod mode;
@@ -66,12 +111,13 @@ mod stats;
 pub use body::{Body, Mass};
 pub use dim::RigidDim;
 pub use error::{LawError, Which};
+pub use friction::ImpactFriction;
 pub use impact::{Energies, Impact, Restitution};
 pub use law::{CLAMP_TOLERANCE, Law};
 pub use mode::{Mode, ParseModeError, ParsePrecisionError, Precision};
 pub use params::{FixedPartner, LawParams, ParseFixedPartnerError};
 pub use rigid::{Angular, Contact, InverseInertia, RigidBody};
-pub use rigid_law::RigidImpact;
+pub use rigid_law::{FrictionRegime, RigidImpact};
 pub use stats::Stats;
 
 /// Re-export of the nalgebra this crate speaks.

@@ -1,4 +1,7 @@
-//! The names most uses of the law need, for one glob import:
+//! The names most uses of the ball law need, for one glob import. The
+//! rigid-body types (`RigidBody`, `Contact`, …) are left out: their names
+//! would clash with a physics engine's prelude in a second glob import;
+//! import them by name.
 //!
 //! ```
 //! use kimpact::prelude::*;

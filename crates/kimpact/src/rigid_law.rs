@@ -17,6 +17,12 @@ use crate::rigid::{Angular, Contact, RigidBody};
 /// Δv_a = −(J/m_a) n̄,   Δω_a = −J I_a⁻¹ k_a,
 /// Δv_b =  (J/m_b) n̄,   Δω_b =  J I_b⁻¹ k_b.
 /// ```
+///
+/// With impact friction ([`Law::resolve_rigid_with_friction`]) the
+/// impulse on `b` is `P = J n̄ + P_t` (`P_t` the
+/// [`tangential_impulse`](Self::tangential_impulse)), and then
+/// `Δv_b = P/m_b`, `Δω_b = I_b⁻¹(r_b × P)`, `Δv_a = −P/m_a`,
+/// `Δω_a = −I_a⁻¹(r_a × P)`. Immovable bodies' changes are zero.
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct RigidImpact<T: RealField + Copy, const D: usize>
 where
@@ -46,8 +52,8 @@ where
     /// The effective restitution `e = U'/U` of the contact points' normal
     /// velocity.
     pub restitution: T,
-    /// The dissipation `d` actually used: the kinetic energy (translation
-    /// and rotation) lost.
+    /// The kinetic energy (translation and rotation) lost: the law's `d`
+    /// as used, plus [`friction_dissipated`](Self::friction_dissipated).
     pub dissipated: T,
     /// Whether `d` was reduced because the roots would have been complex.
     pub clamped: bool,
@@ -55,6 +61,37 @@ where
     /// clamped; `+∞` only when the ask is unbounded, as
     /// [`Impact::unmet_dissipation`](crate::Impact::unmet_dissipation).
     pub unmet_dissipation: T,
+    /// The tangential impulse `P_t ⟂ n̄` of the impact friction, applied as
+    /// `+P_t` to `b` and `−P_t` to `a` at the contact point (zero without
+    /// friction; see [`Law::resolve_rigid_with_friction`]).
+    pub tangential_impulse: SVector<T, D>,
+    /// What the impact friction did.
+    pub friction: FrictionRegime,
+    /// The kinetic energy the impact friction took (`≥ 0`; zero without
+    /// friction), included in [`dissipated`](Self::dissipated).
+    pub friction_dissipated: T,
+}
+
+/// What the tangential part of an impact did
+/// ([`Law::resolve_rigid_with_friction`]).
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq, Hash)]
+pub enum FrictionRegime {
+    /// No tangential impulse: no friction asked (`μ = 0`), or no
+    /// tangential motion of the contact points.
+    #[default]
+    None,
+    /// The impact stuck: the contact points' tangential velocity went from
+    /// `g_t` to `−β g_t` with an impulse within `μ J_n`.
+    Stick,
+    /// The impact slid: the tangential impulse `μ J_n` against the slip.
+    Slide,
+    /// The tangential impulse was reduced below Walton's: in 3D, where the
+    /// sliding impulse `μ J_n` would have reversed the slip beyond `β` and
+    /// added energy through an anisotropic tangential effective mass;
+    /// where the normal–tangential coupling of an off-centre contact would
+    /// have made the contact points approach again; or where the rounding
+    /// of an ill-conditioned contact would have raised the energy.
+    Limited,
 }
 
 impl<T: RealField + Copy, const D: usize> RigidImpact<T, D>
@@ -147,6 +184,20 @@ impl<T: RealField + Copy> Law<T> {
     where
         Const<D>: RigidDim<T, D>,
     {
+        self.normal_part(a, b, contact).map(|(impact, _)| impact)
+    }
+
+    /// [`Law::resolve_rigid`], and what its tangential part needs.
+    #[inline]
+    pub(crate) fn normal_part<const D: usize>(
+        &self,
+        a: &RigidBody<T, D>,
+        b: &RigidBody<T, D>,
+        contact: &Contact<T, D>,
+    ) -> Option<(RigidImpact<T, D>, NormalPart<T, D>)>
+    where
+        Const<D>: RigidDim<T, D>,
+    {
         let n = contact.normal();
         let (ra, rb) = (contact.arm_a(), contact.arm_b());
         let spin = <Const<D>>::velocity_at(&b.angular_velocity, rb)
@@ -196,7 +247,14 @@ impl<T: RealField + Copy> Law<T> {
         let delta_omega_a = turn(a, &ia, -impulse)?;
         let delta_omega_b = turn(b, &ib, impulse)?;
         let effective_mass = pair.reduced / factor;
-        Some(RigidImpact {
+        let normal = NormalPart {
+            w,
+            frac_a: pair.frac_a,
+            frac_b: pair.frac_b,
+            reduced: pair.reduced,
+            speed_change: s_eff,
+        };
+        let impact = RigidImpact {
             normal: *n,
             approach_speed,
             delta_v_a: n * (-(pair.frac_b * s_eff)),
@@ -213,6 +271,25 @@ impl<T: RealField + Copy> Law<T> {
             },
             clamped: c.clamped,
             unmet_dissipation: c.unmet(effective_mass, approach_speed),
-        })
+            tangential_impulse: SVector::zeros(),
+            friction: FrictionRegime::None,
+            friction_dissipated: zero,
+        };
+        Some((impact, normal))
     }
+}
+
+/// What the tangential part of an impact needs from its normal part.
+#[derive(Copy, Clone, Debug)]
+pub(crate) struct NormalPart<T: RealField + Copy, const D: usize> {
+    /// `w = u_b − u_a` before the impact.
+    pub(crate) w: SVector<T, D>,
+    /// `m_a / M`.
+    pub(crate) frac_a: T,
+    /// `m_b / M`.
+    pub(crate) frac_b: T,
+    /// `μ`, the reduced mass (the finite mass against an immovable body).
+    pub(crate) reduced: T,
+    /// `J_n / μ = s/f`, the normal impulse in velocity units.
+    pub(crate) speed_change: T,
 }

@@ -14,7 +14,10 @@
 //! runs `KIMPACT_PROPTEST_CASES` cases (default 10,000).
 
 use kimpact::nalgebra::{Const, Matrix3, RealField, Rotation3, SVector, Vector2, Vector3};
-use kimpact::{Angular, Body, Contact, Law, LawParams, Mass, RigidBody, RigidDim, RigidImpact};
+use kimpact::{
+    Angular, Body, Contact, FrictionRegime, ImpactFriction, Law, LawParams, Mass, RigidBody,
+    RigidDim, RigidImpact,
+};
 use proptest::prelude::*;
 use proptest::test_runner::Config;
 
@@ -61,6 +64,8 @@ struct Case {
     normal: Vector3<f64>,
     origin: Vector3<f64>,
     dissipation: f64,
+    /// Impact friction (μ, β), or none.
+    friction: Option<(f64, f64)>,
 }
 
 fn body_case() -> impl Strategy<Value = BodyCase> {
@@ -96,16 +101,23 @@ fn case() -> impl Strategy<Value = Case> {
         }),
         vec3(1e-3, 1e3),
         prop_oneof![1 => Just(0.0), 3 => log_uniform(1e-6, 1.0)],
+        prop_oneof![
+            1 => Just(None),
+            2 => (log_uniform(1e-3, 10.0), -1.0..=1.0f64).prop_map(Some),
+        ],
     )
-        .prop_map(|(a, b, wall, point, normal, origin, dissipation)| Case {
-            a,
-            b,
-            wall,
-            point,
-            normal: Vector3::from(normal),
-            origin,
-            dissipation,
-        })
+        .prop_map(
+            |(a, b, wall, point, normal, origin, dissipation, friction)| Case {
+                a,
+                b,
+                wall,
+                point,
+                normal: Vector3::from(normal),
+                origin,
+                dissipation,
+                friction,
+            },
+        )
 }
 
 /// What differs between 2D and 3D in the checks.
@@ -327,7 +339,14 @@ where
     Const<D>: Dim<T, D>,
 {
     let s = setup::<T, D>(c);
-    let i = s.law.resolve_rigid(&s.a, &s.b, &s.contact)?;
+    let i = match c.friction {
+        None => s.law.resolve_rigid(&s.a, &s.b, &s.contact)?,
+        Some((mu, beta)) => {
+            let friction = ImpactFriction::new(T::from_subset(&mu), T::from_subset(&beta)).unwrap();
+            s.law
+                .resolve_rigid_with_friction(&s.a, &s.b, &s.contact, &friction)?
+        }
+    };
     let before = [state(&s.a, &c.a), state(&s.b, &c.b)];
     let after = [
         before[0].after::<T, D>(&i.delta_v_a, &i.delta_omega_a),
@@ -361,12 +380,17 @@ where
         [x[0] + y[0], x[1] + y[1], x[2] + y[2], x[3] + y[3]]
     };
     let (b, mut a) = (sum(&r.before), sum(&r.after));
-    let j = f(i.impulse);
+    let mut tangential = Vector3::zeros();
+    for k in 0..D {
+        tangential[k] = f(i.tangential_impulse[k]);
+    }
+    let impulse = s.normal * f(i.impulse) + tangential;
+    let j = impulse.norm();
     let p = project::<D>(&c.point);
     if c.wall {
-        // The wall takes +J n̄ at the contact point: count it.
-        a[0] += s.normal * j;
-        a[1] += (p - o).cross(&(s.normal * j));
+        // The wall takes the impulse at the contact point: count it.
+        a[0] += impulse;
+        a[1] += (p - o).cross(&impulse);
     }
     // Scale: the terms' magnitudes before and after, and the impulse's
     // moment about o (which the two bodies' changes cancel).
@@ -425,23 +449,25 @@ where
         "energy rose from {e0:e} to {e1:e} ({:e})",
         (e1 - e0) / e0
     );
+    // What the impact reports it took is what the energies lost.
+    let reported = f(i.dissipated);
+    prop_assert!(
+        ((e0 - e1) - reported).abs() <= rel * e0,
+        "lost {:e}, reported {reported:e}, E = {e0:e}",
+        e0 - e1
+    );
+    let friction = f(i.friction_dissipated);
+    prop_assert!(friction >= 0.0);
     if i.clamped {
-        // The energy lost is what was used, less than asked.
-        let used = f(i.dissipated);
-        prop_assert!(((e0 - e1) - used).abs() <= rel * e0);
         return Ok(());
     }
+    // Its normal part is the note's d on the contact points.
     let dt = f(T::from_subset(&c.dissipation));
     let d = note_d(c, &r, &s.arm_a, &s.arm_b, dt);
     prop_assert!(
-        ((e0 - e1) - d).abs() <= rel * e0,
-        "lost {:e}, d = {d:e}, E = {e0:e}",
+        ((e0 - e1) - friction - d).abs() <= rel * e0,
+        "lost {:e} with friction {friction:e}, d = {d:e}, E = {e0:e}",
         e0 - e1
-    );
-    let reported = f(i.dissipated);
-    prop_assert!(
-        (reported - d).abs() <= rel * e0,
-        "reported d {reported:e} vs {d:e}"
     );
     Ok(())
 }
@@ -472,9 +498,15 @@ where
     for st in r.after.iter() {
         prop_assert!(st.v.iter().chain(st.w.iter()).all(|x| x.is_finite()));
     }
-    // The contact points separate at e U along the normal.
+    // The contact points separate at e U along the normal (without
+    // friction; with it, at some speed >= 0, as the coupling may change it).
     let u = |st: &State, arm: &Vector3<f64>| st.v + st.w.cross(arm);
     let normal_after = (u(&r.after[1], &s.arm_b) - u(&r.after[0], &s.arm_a)).dot(&s.normal);
+    let e = if i.friction == FrictionRegime::None {
+        e
+    } else {
+        (normal_after / f(i.approach_speed)).max(0.0)
+    };
     let big_u = f(i.approach_speed);
     let scale = [0, 1]
         .iter()
@@ -566,6 +598,85 @@ where
     Ok(())
 }
 
+/// The tangential part follows Walton's model: the normal part is the
+/// frictionless law's bit for bit, the tangential impulse lies in the
+/// contact plane within Coulomb's cone, a stuck contact leaves at `−β g`
+/// (`g` its tangential velocity after the normal impulse), a sliding one
+/// takes `μ J_n` against `g`; and `μ = 0` is the frictionless law.
+fn friction_follows_walton<T: RealField + Copy, const D: usize>(
+    c: &Case,
+    rel: f64,
+) -> Result<(), TestCaseError>
+where
+    Const<D>: Dim<T, D>,
+{
+    let Some((mu, beta)) = c.friction else {
+        return Ok(());
+    };
+    let s = setup::<T, D>(c);
+    let Some(plain) = s.law.resolve_rigid(&s.a, &s.b, &s.contact) else {
+        return Ok(());
+    };
+    let zero = ImpactFriction::new(T::zero(), T::from_subset(&beta)).unwrap();
+    let same = s
+        .law
+        .resolve_rigid_with_friction(&s.a, &s.b, &s.contact, &zero);
+    prop_assert_eq!(same, Some(plain));
+    let friction = ImpactFriction::new(T::from_subset(&mu), T::from_subset(&beta)).unwrap();
+    let i = s
+        .law
+        .resolve_rigid_with_friction(&s.a, &s.b, &s.contact, &friction)
+        .unwrap();
+    prop_assert_eq!(i.impulse, plain.impulse);
+    prop_assert_eq!(i.restitution, plain.restitution);
+    let before = [state(&s.a, &c.a), state(&s.b, &c.b)];
+    let contact_velocity = |x: &RigidImpact<T, D>| {
+        let a = before[0].after::<T, D>(&x.delta_v_a, &x.delta_omega_a);
+        let b = before[1].after::<T, D>(&x.delta_v_b, &x.delta_omega_b);
+        let w = (b.v + b.w.cross(&s.arm_b)) - (a.v + a.w.cross(&s.arm_a));
+        w - s.normal * w.dot(&s.normal)
+    };
+    let g = contact_velocity(&plain);
+    let g_after = contact_velocity(&i);
+    let scale = before
+        .iter()
+        .zip([&s.arm_a, &s.arm_b])
+        .map(|(st, arm)| st.v.norm() + st.w.norm() * arm.norm())
+        .sum::<f64>()
+        + g.norm();
+    let mut p = Vector3::zeros();
+    for k in 0..D {
+        p[k] = f(i.tangential_impulse[k]);
+    }
+    let jn = f(i.impulse);
+    let mu = f(T::from_subset(&mu));
+    let beta = f(T::from_subset(&beta));
+    prop_assert!(p.dot(&s.normal).abs() <= rel * p.norm().max(f64::MIN_POSITIVE));
+    prop_assert!(
+        p.norm() <= mu * jn * (1.0 + rel) + f64::MIN_POSITIVE,
+        "|P_t| = {:e} beyond μ J_n = {:e}",
+        p.norm(),
+        mu * jn
+    );
+    match i.friction {
+        FrictionRegime::Stick => prop_assert!(
+            (g_after + g * beta).norm() <= rel * scale,
+            "stuck at {g_after:?}, −β g = {:?}",
+            -g * beta
+        ),
+        FrictionRegime::Slide => {
+            prop_assert!((p.norm() - mu * jn).abs() <= rel * mu * jn);
+            prop_assert!((p / p.norm() + g / g.norm()).norm() <= 1e3 * rel);
+        }
+        FrictionRegime::Limited => {
+            // Against the slip, below the bound.
+            prop_assert!(p.dot(&g) <= rel * p.norm() * g.norm());
+        }
+        FrictionRegime::None => prop_assert_eq!(p, Vector3::zeros()),
+    }
+    Ok(())
+}
+
 macro_rules! variant {
     ($name:ident, $d:literal) => {
         mod $name {
@@ -581,10 +692,13 @@ macro_rules! variant {
                 #[test]
                 fn ball_law(c in case(), variant in 0u8..3) { ball_law_bit_for_bit::<$d>(&c, variant)?; }
                 #[test]
+                fn friction(c in case()) { friction_follows_walton::<f64, $d>(&c, 1e-12)?; }
+                #[test]
                 fn f32_sanity(c in case()) {
                     momenta_are_kept::<f32, $d>(&c, 1e-4)?;
                     energy_falls_by_d::<f32, $d>(&c, 1e-4, 64.0 * eps::<f32>())?;
                     everything_finite_and_separating::<f32, $d>(&c, 1e-4)?;
+                    friction_follows_walton::<f32, $d>(&c, 1e-4)?;
                 }
             }
         }
