@@ -12,6 +12,7 @@ mod d2 {
     include!("cases/adapter.rs");
     include!("cases/calm.rs");
     include!("cases/clamps.rs");
+    include!("cases/rigid.rs");
     include!("cases/contract.rs");
     include!("cases/user_worlds.rs");
     include!("cases/settings.rs");
@@ -27,6 +28,7 @@ mod d3 {
     include!("cases/adapter.rs");
     include!("cases/calm.rs");
     include!("cases/clamps.rs");
+    include!("cases/rigid.rs");
     include!("cases/contract.rs");
     include!("cases/user_worlds.rs");
     include!("cases/settings.rs");
@@ -42,6 +44,7 @@ mod d2_f64 {
     include!("cases/adapter.rs");
     include!("cases/calm.rs");
     include!("cases/clamps.rs");
+    include!("cases/rigid.rs");
     include!("cases/contract.rs");
     include!("cases/user_worlds.rs");
     include!("cases/settings.rs");
@@ -64,6 +67,7 @@ mod d3_f64 {
     include!("cases/adapter.rs");
     include!("cases/calm.rs");
     include!("cases/clamps.rs");
+    include!("cases/rigid.rs");
     include!("cases/contract.rs");
     include!("cases/user_worlds.rs");
     include!("cases/settings.rs");

@@ -3,7 +3,7 @@
 use std::sync::Mutex;
 
 use crate::body_view::LawBody;
-use crate::math::{Real, Vector};
+use crate::math::{DIM, Real, Vector};
 use crate::rapier::prelude::ColliderHandle;
 
 /// A pair the hook handed to kimpact during the step.
@@ -23,6 +23,10 @@ pub(crate) struct Candidate {
     /// contacts were cleared); otherwise rapier's solver bounced it with
     /// the law's restitution (restitution mode), to be reported.
     pub by_replay: bool,
+    /// Restitution mode, a pair with a collider of another shape than a
+    /// centred ball on a dynamic body: the law's impact as rigid bodies
+    /// at the manifold's contact, at detection (the report's outcome).
+    pub rigid: Option<kimpact::RigidImpact<Real, DIM>>,
 }
 
 impl Candidate {

@@ -55,6 +55,47 @@ pub struct ImpactEvent {
 /// [`kimpact::Stats`], the same type in the four adapter crates.
 pub use kimpact::Stats;
 
+/// What the law did at one impact, as an event reports it: from a ball
+/// impact ([`kimpact::Impact`]) or a rigid one ([`kimpact::RigidImpact`]).
+#[derive(Copy, Clone, Debug)]
+pub(crate) struct Outcome {
+    normal: Vector,
+    impulse: Real,
+    approach_speed: Real,
+    restitution: Real,
+    dissipated: Real,
+    clamped: bool,
+    unmet_dissipation: Real,
+}
+
+impl From<&kimpact::Impact<Real, DIM>> for Outcome {
+    fn from(impact: &kimpact::Impact<Real, DIM>) -> Self {
+        Self {
+            normal: from_law(&impact.normal),
+            impulse: impact.impulse,
+            approach_speed: impact.approach_speed,
+            restitution: impact.restitution,
+            dissipated: impact.dissipated,
+            clamped: impact.clamped,
+            unmet_dissipation: impact.unmet_dissipation,
+        }
+    }
+}
+
+impl From<&kimpact::RigidImpact<Real, DIM>> for Outcome {
+    fn from(impact: &kimpact::RigidImpact<Real, DIM>) -> Self {
+        Self {
+            normal: from_law(&impact.normal),
+            impulse: impact.impulse,
+            approach_speed: impact.approach_speed,
+            restitution: impact.restitution,
+            dissipated: impact.dissipated,
+            clamped: impact.clamped,
+            unmet_dissipation: impact.unmet_dissipation,
+        }
+    }
+}
+
 /// A step's impact events and the running totals: what every stage
 /// writes its results to.
 #[derive(Clone, Debug, Default)]
@@ -74,9 +115,10 @@ impl EventLog {
         c: &Candidate,
         time: Real,
         point: Vector,
-        impact: &kimpact::Impact<Real, DIM>,
+        impact: impl Into<Outcome>,
         by_solver: bool,
     ) {
+        let impact: Outcome = impact.into();
         self.stats.impacts += 1;
         self.stats.clamped += u64::from(impact.clamped);
         self.stats.dissipated += f64::from(impact.dissipated);
@@ -87,7 +129,7 @@ impl EventLog {
             time,
             by_solver,
             point,
-            normal: from_law(&impact.normal),
+            normal: impact.normal,
             impulse: impact.impulse,
             approach_speed: impact.approach_speed,
             restitution: impact.restitution,

@@ -104,15 +104,21 @@ impl StepHooks<'_> {
         let Some(frame) = self.frame else {
             return;
         };
-        if self.mode == Mode::Native
-            || !self.marks.governs(
-                self.fixed_partners,
-                context.colliders,
-                context.bodies,
-                c1,
-                c2,
-            )
+        if self.mode == Mode::Native {
+            return;
+        }
+        let (colliders, bodies) = (context.colliders, context.bodies);
+        if !self
+            .marks
+            .governs(self.fixed_partners, colliders, bodies, c1, c2)
         {
+            if self.mode == Mode::Restitution
+                && self
+                    .marks
+                    .governs_rigid(self.fixed_partners, colliders, bodies, c1, c2)
+            {
+                self.respond_rigid(context, &frame);
+            }
             return;
         }
         let (dt, rest_speed, margin) = (frame.dt, frame.rest_speed, frame.gravity_speed);
@@ -234,6 +240,90 @@ impl StepHooks<'_> {
         }
     }
 
+    /// Restitution mode, a pair with a marked collider of another shape than
+    /// a centred ball on a dynamic body: the law's restitution for the two
+    /// as rigid bodies at the manifold's contact (the centroid of its
+    /// solver contacts, their velocities at the start of the step),
+    /// written into the manifold for rapier's solver, whose solver contacts
+    /// are merged into one there; no bounce when the contact points close
+    /// at most at the rest speed. The pair is never
+    /// the replay's (which moves bodies as points) and has no graze test
+    /// (its cast is linear, the bodies turn).
+    fn respond_rigid(&self, context: &mut ContactModificationContext, frame: &StepFrame) {
+        let (bodies, rb1, rb2) = (context.bodies, context.rigid_body1, context.rigid_body2);
+        let (c1, c2) = (context.collider1, context.collider2);
+        // A body with some translations locked: the pair is rapier's.
+        let (Some(b1), Some(b2)) = (law_body(bodies, rb1), law_body(bodies, rb2)) else {
+            return;
+        };
+        let (b1, b2) = dominated(bodies, (rb1, b1), (rb2, b2));
+        let Some(rigid) = context.rigid_mut() else {
+            return;
+        };
+        let count = rigid.solver_contacts.len();
+        if count == 0 {
+            return;
+        }
+        if !(b1.is_finite() && b2.is_finite()) {
+            rigid.solver_contacts.clear();
+            self.guarded.fetch_add(1, Ordering::Relaxed);
+            return;
+        }
+        let n = *rigid.normal;
+        let fresh = rigid
+            .solver_contacts
+            .iter()
+            .all(|c| c.contact_id[0] & NEW_CONTACT_BIT != 0);
+        let (sum, dist) = rigid
+            .solver_contacts
+            .iter()
+            .fold((Vector::ZERO, Real::MAX), |(sum, dist), c| {
+                (sum + (c.anchor1 + c.anchor2) * 0.5, dist.min(c.dist))
+            });
+        let point = sum / count as Real;
+        let law = self.marks.law(self.law, c1, c2);
+        let impact = crate::rigid_view::resolve(&law, bodies, (rb1, &b1), (rb2, &b2), point, n);
+        let Some(impact) = impact.filter(|i| i.approach_speed > frame.rest_speed) else {
+            *rigid.restitution = 0.0;
+            return;
+        };
+        *rigid.restitution = impact.restitution;
+        // rapier's solver bounces each solver contact of a manifold by the
+        // restitution, one after another: with several (a bar landing on
+        // its edge, a box on its face) their impulses together differ from
+        // the law's at the contact, and can raise the energy of an elastic
+        // impact. One contact at the centroid takes the law's impulse
+        // exactly (a single constraint: the contact point leaves at `e U`).
+        if count > 1 {
+            let inverse = 1.0 / count as Real;
+            let (a1, a2, gap) = rigid
+                .solver_contacts
+                .iter()
+                .fold((Vector::ZERO, Vector::ZERO, 0.0), |(a1, a2, gap), c| {
+                    (a1 + c.anchor1, a2 + c.anchor2, gap + c.dist)
+                });
+            let first = &mut rigid.solver_contacts[0];
+            first.anchor1 = a1 * inverse;
+            first.anchor2 = a2 * inverse;
+            first.dist = gap * inverse;
+            rigid.solver_contacts.truncate(1);
+        }
+        let reach = (impact.approach_speed + frame.gravity_speed) * frame.dt;
+        if fresh && dist <= reach * 1.01 + Real::EPSILON {
+            self.candidates.push(Candidate {
+                collider1: c1,
+                collider2: c2,
+                normal: n,
+                point,
+                dist,
+                start1: b1,
+                start2: b2,
+                by_replay: false,
+                rigid: Some(impact),
+            });
+        }
+    }
+
     /// Whether colliders `c1` and `c2` meet within this step on the straight
     /// paths rapier is about to integrate (velocity plus gravity), by a
     /// linear cast (closed form for two balls and for a ball and a cuboid,
@@ -292,6 +382,7 @@ impl StepHooks<'_> {
             start1,
             start2,
             by_replay,
+            rigid: None,
         });
     }
 }

@@ -50,6 +50,7 @@ pub use kimpact::{FixedPartner, Law, LawError, LawParams, Precision};
 // pair_filter                   whether rapier would let a pair touch
 // events                        what the stages report
 // cast, sweep_grid, leaves      geometry: times of impact, grids, rapier's tree
+// rigid_view                    how the law sees a rotating body at a contact
 // calm, prepare                 stage 1: hook flags and starts
 // replay                        stages 1 and 3: impacts in time order
 // hook                          stage 2: the contact hook
@@ -72,6 +73,7 @@ pub mod prelude;
 mod prepare;
 mod replay;
 mod resolver;
+mod rigid_view;
 mod sweep_grid;
 #[cfg(test)]
 mod test_rng;

@@ -141,7 +141,8 @@ impl Marks {
     /// other immovable (fixed, kinematic, or dynamic with every translation
     /// locked; when `fixed_partners`); and every marked collider of
     /// a dynamic body in it a point collider (the pairs of any other are
-    /// rapier's, as if it were not marked).
+    /// rapier's, as if it were not marked, but in restitution mode: see
+    /// [`Marks::governs_rigid`]).
     pub(crate) fn governs(
         &self,
         fixed_partners: bool,
@@ -150,13 +151,50 @@ impl Marks {
         c1: ColliderHandle,
         c2: ColliderHandle,
     ) -> bool {
+        !self.turning(colliders, bodies, c1, c2)
+            && self.pairs(fixed_partners, colliders, bodies, c1, c2)
+    }
+
+    /// Whether the law governs the pair as rigid bodies at the manifold's
+    /// contact (restitution mode): a pair [`Marks::governs`] would govern
+    /// but for a marked collider of another shape than a centred ball on a
+    /// dynamic body.
+    pub(crate) fn governs_rigid(
+        &self,
+        fixed_partners: bool,
+        colliders: &ColliderSet,
+        bodies: &RigidBodySet,
+        c1: ColliderHandle,
+        c2: ColliderHandle,
+    ) -> bool {
+        self.turning(colliders, bodies, c1, c2)
+            && self.pairs(fixed_partners, colliders, bodies, c1, c2)
+    }
+
+    /// Whether a marked collider of the pair is extended on a dynamic body.
+    fn turning(
+        &self,
+        colliders: &ColliderSet,
+        bodies: &RigidBodySet,
+        c1: ColliderHandle,
+        c2: ColliderHandle,
+    ) -> bool {
+        !self.extended.is_empty()
+            && ((self.contains(c1) && self.turns(colliders, bodies, c1))
+                || (self.contains(c2) && self.turns(colliders, bodies, c2)))
+    }
+
+    /// Whether the pair is the law's by its marks: both marked, or one
+    /// marked and the other immovable (with `fixed_partners`).
+    fn pairs(
+        &self,
+        fixed_partners: bool,
+        colliders: &ColliderSet,
+        bodies: &RigidBodySet,
+        c1: ColliderHandle,
+        c2: ColliderHandle,
+    ) -> bool {
         let (m1, m2) = (self.contains(c1), self.contains(c2));
-        if !self.extended.is_empty()
-            && ((m1 && self.turns(colliders, bodies, c1))
-                || (m2 && self.turns(colliders, bodies, c2)))
-        {
-            return false;
-        }
         if m1 && m2 {
             return true;
         }

@@ -405,8 +405,10 @@ impl Prepare {
         };
         for &ch in rb.colliders() {
             // An extended collider on a dynamic body is rapier's (see
-            // `Marks::governs`): no hook for it.
-            if !partner && (!marks.contains(ch) || marks.is_extended(ch)) {
+            // `Marks::governs`), but for restitution mode's rigid
+            // restitution: no hook for it otherwise.
+            let extended = marks.is_extended(ch);
+            if !partner && (!marks.contains(ch) || (extended && !step.restitution)) {
                 continue;
             }
             any_marked = true;
@@ -445,6 +447,9 @@ impl Prepare {
                 self.touched.resize_with(index + 1, || AtomicU32::new(0));
             }
             if step.restitution {
+                // The replay moves bodies as points: an extended collider is
+                // never swept.
+                let travel = if extended { 0.0 } else { travel };
                 self.note_restitution(ch, index, carried, travel, colliders, step.narrow_phase);
             }
         }

@@ -195,12 +195,18 @@ impl Kimpact {
     /// until the collider's body moves; marking a marked collider again
     /// changes nothing.
     ///
-    /// The law moves bodies as points, so it governs a dynamic body's
-    /// collider only if it is a ball centred on the body's origin (read
-    /// when marking: mark again after changing the shape). A marked
-    /// collider of any other shape on a dynamic body keeps rapier's own
-    /// response, with its own restitution, as if it were not marked; as a
-    /// fixed or kinematic partner any shape follows the law.
+    /// In `Impulse` and `Exact` the law moves bodies as points, so it
+    /// governs a dynamic body's collider only if it is a ball centred on
+    /// the body's origin (read when marking: mark again after changing the
+    /// shape); a marked collider of any other shape on a dynamic body keeps
+    /// rapier's own response there, with its own restitution, as if it were
+    /// not marked. In `Restitution` a marked collider of any shape follows
+    /// the law for rigid bodies (`kimpact::Law::resolve_rigid`): the
+    /// restitution of its impacts is the law's at the manifold's contact
+    /// (the centroid of its solver contacts, which rapier's solver then
+    /// takes as one), with the effective mass of both bodies there, and
+    /// the impacts are reported. As a fixed or kinematic partner any shape
+    /// follows the law.
     ///
     /// # Errors
     /// [`HandleError::UnknownCollider`] when `collider` is not in
@@ -548,6 +554,10 @@ impl Kimpact {
                         .any(|m| m.points.iter().any(|p| p.data.impulse > 0.0))
                 });
             if !bounced {
+                continue;
+            }
+            if let Some(impact) = &c.rigid {
+                self.log.push(c, 0.0, c.point, impact, true);
                 continue;
             }
             let (Ok(b1), Ok(b2)) = (c.start1.checked(), c.start2.checked()) else {

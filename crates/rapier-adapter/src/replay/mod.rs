@@ -699,6 +699,7 @@ impl Replay {
                 start1: la,
                 start2: lb,
                 by_replay: true,
+                rigid: None,
             };
             let (Ok(ba), Ok(bb)) = (la.checked(), lb.checked()) else {
                 out.log.skip(&candidate);

@@ -1,0 +1,92 @@
+//! How the law sees a rapier body as a rigid body (mass, velocity, angular
+//! velocity, world inverse inertia, centre of mass), for the pairs of a
+//! marked collider of any shape on a dynamic body that restitution mode
+//! governs at the manifold's contact ([`kimpact::Law::resolve_rigid`]).
+
+use kimpact::{Contact, Law, Mass, RigidImpact};
+
+use crate::body_view::LawBody;
+use crate::math::{DIM, Real, Vector, to_law};
+use crate::rapier::prelude::*;
+
+/// The law's rigid body of this dimension and precision.
+pub(crate) type LawRigid = kimpact::RigidBody<Real, DIM>;
+
+/// The law's angular velocity of rapier body `rb` (world frame).
+#[cfg(feature = "dim2")]
+fn angular(rb: &RigidBody) -> kimpact::Angular<Real, DIM> {
+    rb.angvel()
+}
+
+/// The law's angular velocity of rapier body `rb` (world frame).
+#[cfg(feature = "dim3")]
+fn angular(rb: &RigidBody) -> kimpact::Angular<Real, DIM> {
+    let w = rb.angvel();
+    nalgebra::Vector3::new(w.x, w.y, w.z)
+}
+
+/// The world inverse inertia of rapier body `rb` as its solver uses it
+/// (rows and columns of locked rotations zero).
+#[cfg(feature = "dim2")]
+fn inverse_inertia(rb: &RigidBody) -> kimpact::InverseInertia<Real, DIM> {
+    rb.mass_properties().effective_world_inv_inertia
+}
+
+/// The world inverse inertia of rapier body `rb` as its solver uses it
+/// (rows and columns of locked rotations zero).
+#[cfg(feature = "dim3")]
+fn inverse_inertia(rb: &RigidBody) -> kimpact::InverseInertia<Real, DIM> {
+    let m = rb.mass_properties().effective_world_inv_inertia;
+    nalgebra::Matrix3::new(
+        m.m11, m.m12, m.m13, m.m12, m.m22, m.m23, m.m13, m.m23, m.m33,
+    )
+}
+
+/// No rotation, in this dimension.
+fn zero_angular() -> kimpact::Angular<Real, DIM> {
+    Default::default()
+}
+
+/// The body `parent` as the law sees it at a contact (`law`: its mass
+/// after locked translations and dominance, see
+/// [`crate::body_view::law_body`] and [`crate::body_view::dominated`]),
+/// and its centre of mass in the world (`None` without a body). `None`
+/// when the data cannot enter the law (non-finite, or an inverse inertia
+/// that is not positive semidefinite).
+fn rigid(
+    bodies: &RigidBodySet,
+    parent: Option<RigidBodyHandle>,
+    law: &LawBody,
+) -> Option<(LawRigid, Option<Vector>)> {
+    let rb = parent.and_then(|h| bodies.get(h));
+    let omega = rb.map_or_else(zero_angular, angular);
+    let velocity = to_law(law.velocity);
+    let body = match (law.mass, rb) {
+        (Mass::Finite(m), Some(rb)) => LawRigid::new(m, velocity, omega, inverse_inertia(rb)),
+        (Mass::Finite(m), None) => LawRigid::new(m, velocity, omega, Default::default()),
+        (Mass::Infinite, _) => LawRigid::immovable(velocity, omega),
+    };
+    Some((body.ok()?, rb.map(|rb| rb.center_of_mass())))
+}
+
+/// The law's impact of the pair of bodies `p1`, `p2` (as the law sees
+/// them: `b1`, `b2`) touching at `point` with unit normal `normal` from
+/// the first towards the second, at the velocities they have now; `None`
+/// when the contact points do not approach or the data cannot enter the
+/// law.
+pub(crate) fn resolve(
+    law: &Law<Real>,
+    bodies: &RigidBodySet,
+    (p1, b1): (Option<RigidBodyHandle>, &LawBody),
+    (p2, b2): (Option<RigidBodyHandle>, &LawBody),
+    point: Vector,
+    normal: Vector,
+) -> Option<RigidImpact<Real, DIM>> {
+    let (a, centre_a) = rigid(bodies, p1, b1)?;
+    let (b, centre_b) = rigid(bodies, p2, b2)?;
+    // A body without a centre of mass (a collider without a body) is
+    // immovable and still: its arm changes nothing.
+    let arm = |centre: Option<Vector>| to_law(point - centre.unwrap_or(point));
+    let contact = Contact::with_unit_normal(arm(centre_a), arm(centre_b), to_law(normal)).ok()?;
+    law.resolve_rigid(&a, &b, &contact)
+}
