@@ -3,39 +3,8 @@
 
 use std::process::{Command, ExitCode, Stdio};
 
-use serde::{Deserialize, Serialize};
-
-use crate::report::Group;
+use crate::raw::Group;
 use crate::{Cli, Mode, Precision, Scene, d2, d2_f64, d3, d3_f64};
-
-/// What the measured steps of one world did: their number, the CPU time
-/// of the process per step of each sample (µs), the heap allocations (all
-/// threads) and the impacts the law resolved.
-#[derive(Clone, Debug, Default, Serialize, Deserialize)]
-pub struct Measure {
-    pub steps: usize,
-    pub cpu_us: Vec<f64>,
-    pub allocs: u64,
-    pub impacts: u64,
-}
-
-/// A timing child: native's measure and the mode's, in lockstep in one
-/// process.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct Pair {
-    pub native: Measure,
-    pub law: Measure,
-}
-
-/// A memory child: the allocations of one mode alone in its measured
-/// steps, its `VmHWM` after them (KiB) and, from a second pass classifying
-/// every allocation, (classified, kimpact's).
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct Solo {
-    pub allocs: u64,
-    pub peak_rss_kib: u64,
-    pub attributed: Option<(u64, u64)>,
-}
 
 /// A child process of this binary with `args`, its JSON answer parsed;
 /// `Err` with the reason when it failed.
@@ -92,6 +61,9 @@ fn child_args(cli: &Cli, solo: bool, (scene, balls, precision): Config, mode: Mo
         (solo && !cli.no_attribute, "--attribute"),
     ];
     args.extend(flags.iter().filter(|f| f.0).map(|f| f.1.to_owned()));
+    if let Some(effect) = cli.effect {
+        args.extend(["--effect".to_owned(), effect.name().to_owned()]);
+    }
     args
 }
 
@@ -137,6 +109,7 @@ pub fn measure_group(cli: &Cli, config: Config, modes: &[Mode], progress: impl F
         scene,
         precision,
         balls,
+        effect: cli.effect,
         modes: modes.to_vec(),
         pairs,
         solos,

@@ -12,7 +12,9 @@
 
 mod alloc;
 mod child;
+mod effects;
 mod memory;
+mod raw;
 mod report;
 
 use std::path::PathBuf;
@@ -106,6 +108,44 @@ impl Scene {
     }
 }
 
+/// A configuration of the effects table (`--effects`): its base, the gas
+/// scenes' balls with no effect at all (no gravity, `d̃ = 0`, no friction,
+/// no spin, no walls, nobody reading the impact events, no material), or
+/// the base with one effect on.
+#[derive(
+    Copy, Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, ValueEnum, Serialize, Deserialize,
+)]
+#[serde(rename_all = "lowercase")]
+#[value(rename_all = "lower")]
+pub enum Effect {
+    /// No effect at all.
+    Base,
+    /// Gravity, 9.81 m/s² along −y.
+    Gravity,
+    /// The law's `d̃ = 0.09` (the pits').
+    Dissipation,
+    /// Friction 0.5 on every ball.
+    Friction,
+    /// Every ball spinning about z at up to 6 rad/s.
+    Spin,
+    /// The gas scenes' closed box of fixed walls (the base with it is the
+    /// gas scene).
+    Walls,
+    /// The user reads every impact event after each step (timed).
+    Events,
+    /// Every ball marked with its own material (`Kimpact::mark_with`,
+    /// `d̃ = d̃_w = 0`, so that only the path through materials differs).
+    Materials,
+}
+
+impl Effect {
+    /// The name on the command line and in the outputs.
+    pub fn name(self) -> String {
+        let value = self.to_possible_value().expect("no effect is skipped");
+        value.get_name().to_owned()
+    }
+}
+
 /// An angle or angular velocity about z: a scalar in 2D, a vector in 3D.
 pub trait AboutZ<R> {
     /// The angle or angular speed `a` about z.
@@ -174,6 +214,14 @@ pub struct Cli {
     /// hook that does nothing: what rapier pays for a hooked pair.
     #[arg(long)]
     pub hook_native: bool,
+    /// The effects table instead of the matrix: each gas scene of `--scene`
+    /// with each effect alone on (see `Effect`), into
+    /// `<out>/effects-<scene>/`.
+    #[arg(long)]
+    pub effects: bool,
+    /// Internal: the effects table's configuration to run.
+    #[arg(long, hide = true)]
+    pub effect: Option<Effect>,
     /// Rebuild the table, CSV and plots from `<out>/raw.json`.
     #[arg(long)]
     pub rerender: bool,
@@ -223,7 +271,7 @@ fn main() -> ExitCode {
             .map_err(|e| e.to_string())
             .and_then(|s| serde_json::from_str(&s).map_err(|e| e.to_string()));
         return match raw {
-            Ok(raw) => report::render(&cli.out, &raw),
+            Ok(raw) => render(&cli.out, &raw),
             Err(e) => {
                 eprintln!("cannot read {}: {e}", path.display());
                 ExitCode::FAILURE
@@ -231,20 +279,42 @@ fn main() -> ExitCode {
         };
     }
     let modes = set(std::iter::once(Mode::Native).chain(cli.mode.iter().copied()));
+    let gas = |s: &Scene| matches!(s, Scene::Gas2d | Scene::Gas3d);
+    let scenes = set(cli.scene.iter().copied().filter(|s| !cli.effects || gas(s)));
+    let effects: Vec<Option<Effect>> = match cli.effects {
+        true => Effect::value_variants().iter().copied().map(Some).collect(),
+        false => vec![None],
+    };
+    if scenes.is_empty() {
+        eprintln!("--effects runs on the gas2d and gas3d bases: give one in --scene");
+        return ExitCode::FAILURE;
+    }
     let started = Instant::now();
     let mut groups = Vec::new();
     for precision in set(cli.precision.iter().copied()) {
-        for scene in set(cli.scene.iter().copied()) {
+        for &scene in &scenes {
             let sizes = scene
                 .fixed_balls()
                 .map_or_else(|| set(cli.balls.iter().copied()), |n| vec![n]);
-            for balls in sizes {
+            for (balls, &effect) in sizes
+                .into_iter()
+                .flat_map(|n| effects.iter().map(move |e| (n, e)))
+            {
                 let progress = |what: &str| {
                     let t = started.elapsed().as_secs_f64();
                     let (p, s) = (precision.name(), scene.name());
-                    eprintln!("[{t:>6.1}s] {p} {s} {balls} balls: {what}");
+                    let e = effect
+                        .map(|e| format!(", {}", e.name()))
+                        .unwrap_or_default();
+                    eprintln!("[{t:>6.1}s] {p} {s} {balls} balls{e}: {what}");
                 };
-                let config = (scene, balls, precision);
+                let (config, cli) = (
+                    (scene, balls, precision),
+                    Cli {
+                        effect,
+                        ..cli.clone()
+                    },
+                );
                 groups.push(child::measure_group(&cli, config, &modes, progress));
             }
         }
@@ -255,17 +325,25 @@ fn main() -> ExitCode {
         .join(" ");
     let (machine, parallel) = (kimpact_harness::machine(), cfg!(feature = "parallel"));
     let wall_s = started.elapsed().as_secs_f64();
-    let header = report::Header {
+    let header = raw::Header {
         command,
         cli: cli.clone(),
         machine,
         parallel,
         wall_s,
     };
-    let raw = report::Raw { header, groups };
+    let raw = raw::Raw { header, groups };
     let json = serde_json::to_string(&raw).expect("the results serialize");
     if let Err(e) = kimpact_harness::write_files(&[(&cli.out.join("raw.json"), json.as_bytes())]) {
         eprintln!("{e}");
     }
-    report::render(&cli.out, &raw)
+    render(&cli.out, &raw)
+}
+
+/// The effects tables of `raw` if it holds them, else the matrix's outputs.
+fn render(dir: &std::path::Path, raw: &raw::Raw) -> ExitCode {
+    match raw.groups.iter().any(|g| g.effect.is_some()) {
+        true => effects::render(dir, raw),
+        false => report::render(dir, raw),
+    }
 }

@@ -1,56 +1,12 @@
 //! From the child runs to the table, `results.csv` and the scaling plots.
 
 use std::fmt::Write as _;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+use crate::Mode;
+use crate::raw::{Group, Header, Measure, Pair, Raw};
 use kimpact_harness::{BenchRow, Method, Panel, write_files};
-use serde::{Deserialize, Serialize};
-
-use crate::child::{Measure, Pair, Solo};
-use crate::{Cli, Mode, Precision, Scene};
-
-/// The runs of one scene, size and precision.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct Group {
-    /// The scene.
-    pub scene: Scene,
-    /// The precision.
-    pub precision: Precision,
-    /// Its balls (as asked: a small scene's own count).
-    pub balls: usize,
-    /// Every mode of the table (native first).
-    pub modes: Vec<Mode>,
-    /// Timing children: native and a mode in lockstep.
-    pub pairs: Vec<(Mode, Result<Pair, String>)>,
-    /// Memory children: each mode alone.
-    pub solos: Vec<(Mode, Result<Solo, String>)>,
-}
-
-/// What the table's header says about the run.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct Header {
-    /// The command line, and its options.
-    pub command: String,
-    /// See `command`.
-    pub cli: Cli,
-    /// The machine.
-    pub machine: String,
-    /// Whether rapier's `parallel` feature was on.
-    pub parallel: bool,
-    /// Wall time of the whole run, s.
-    pub wall_s: f64,
-}
-
-/// Everything a run measured: `raw.json` in the output folder, from which
-/// `--rerender` rebuilds the table, the CSV and the plots.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct Raw {
-    /// The run.
-    pub header: Header,
-    /// Its groups.
-    pub groups: Vec<Group>,
-}
 
 /// The median of `v` (the upper middle value of an even count; NaN for
 /// none).
@@ -144,7 +100,7 @@ pub fn rows(g: &Group) -> Vec<BenchRow> {
 }
 
 /// A time per step for the tables: three significant digits or so.
-fn fmt_us(us: f64) -> String {
+pub fn fmt_us(us: f64) -> String {
     match us {
         _ if !us.is_finite() => "—".to_owned(),
         _ if us >= 10_000.0 => format!("{:.1} ms", us / 1000.0),
@@ -243,19 +199,40 @@ fn scaling_svg(rows: &[&BenchRow]) -> Option<Result<String, String>> {
     (sizes.len() > 1).then(|| kimpact_harness::svg(&[panel], 1, (800, 500)))
 }
 
+/// `rows` as CSV, through serde.
+pub fn csv<T: serde::Serialize>(rows: &[T]) -> Result<Vec<u8>, String> {
+    let mut csv = csv::Writer::from_writer(Vec::new());
+    rows.iter()
+        .try_for_each(|r| csv.serialize(r))
+        .map_err(|e| e.to_string())?;
+    csv.into_inner().map_err(|e| e.to_string())
+}
+
+/// Write `files` whole (`write_files`), saying so on stderr.
+pub fn write(dir: &Path, files: &[(PathBuf, Vec<u8>)]) -> ExitCode {
+    let files: Vec<(&Path, &[u8])> = files
+        .iter()
+        .map(|(p, b)| (p.as_path(), b.as_slice()))
+        .collect();
+    match write_files(&files) {
+        Ok(()) => {
+            eprintln!("wrote {}", dir.display());
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("{e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
 /// Print the table of `raw` and write `results.md`, `results.csv` and the
 /// scaling plots into `dir`, whole.
 pub fn render(dir: &Path, raw: &Raw) -> ExitCode {
     let rows: Vec<BenchRow> = raw.groups.iter().flat_map(rows).collect();
     let markdown = markdown(&raw.header, &rows);
     println!("{markdown}");
-    let mut csv = csv::Writer::from_writer(Vec::new());
-    let csv = rows
-        .iter()
-        .try_for_each(|r| csv.serialize(r))
-        .map_err(|e| e.to_string())
-        .and_then(|()| csv.into_inner().map_err(|e| e.to_string()));
-    let csv = match csv {
+    let csv = match csv(&rows) {
         Ok(csv) => csv,
         Err(e) => {
             eprintln!("cannot write the CSV: {e}");
@@ -280,21 +257,5 @@ pub fn render(dir: &Path, raw: &Raw) -> ExitCode {
             None => {}
         }
     }
-    let files: Vec<(&Path, &[u8])> = files
-        .iter()
-        .map(|(p, b)| (p.as_path(), b.as_slice()))
-        .collect();
-    match write_files(&files) {
-        Ok(()) => {
-            eprintln!(
-                "wrote {}: results.csv, results.md and the scaling plots",
-                dir.display()
-            );
-            ExitCode::SUCCESS
-        }
-        Err(e) => {
-            eprintln!("{e}");
-            ExitCode::FAILURE
-        }
-    }
+    write(dir, &files)
 }

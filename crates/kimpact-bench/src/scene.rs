@@ -9,8 +9,8 @@ use k::{Kimpact, Law, LawParams, Mode};
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
 
-use crate::child::{Measure, Pair, Solo};
-use crate::{AboutZ, Cli, Scene, alloc, memory};
+use crate::raw::{Measure, Pair, Solo};
+use crate::{AboutZ, Cli, Effect, Scene, alloc, memory};
 
 /// A vector with components uniform in `[-speed, speed)`.
 fn random_vector(rng: &mut Xoshiro256PlusPlus, speed: Real) -> Vector {
@@ -65,6 +65,10 @@ pub struct Bench {
     drives: Vec<Drive>,
     /// Simulated time, for the drives.
     time: Real,
+    /// Whether the user reads the impact events after each step.
+    read_events: bool,
+    /// The material every ball is marked with (`None`: the law's).
+    own_material: Option<k::Material>,
 }
 
 /// A kinematic body swung at the angular velocity
@@ -90,6 +94,8 @@ impl Bench {
             kimpact: Kimpact::new(law, mode),
             drives: Vec::new(),
             time: 0.0,
+            read_events: false,
+            own_material: None,
         }
     }
 
@@ -101,7 +107,10 @@ impl Bench {
             .restitution(material.1);
         let collider = self.hooked_if_asked(collider);
         let (_, c) = self.world.insert(body, collider);
-        let marked = self.kimpact.mark(&self.world.colliders, c);
+        let marked = match self.own_material {
+            Some(m) => self.kimpact.mark_with(&self.world.colliders, c, m),
+            None => self.kimpact.mark(&self.world.colliders, c),
+        };
         marked.expect("inserted just above");
     }
 
@@ -154,29 +163,7 @@ impl Bench {
                 }
                 b
             }
-            Scene::Gas2d | Scene::Gas3d => {
-                // The density of the adapter tests' 500-ball gas.
-                let mut b = Self::new(mode, 0.0, Vector::ZERO);
-                let material = (0.0, 1.0);
-                let r = 0.5;
-                let half = if DIM == 2 {
-                    22.0 * (balls as f64 / 500.0).sqrt()
-                } else {
-                    7.0 * (balls as f64 / 500.0).cbrt()
-                } as Real;
-                b.closed_box(Vector::splat(half), 1.0, material);
-                let side = per_side(balls);
-                let spacing = 2.0 * half / side as Real;
-                assert!(spacing > 2.0 * r, "the gas grid must not overlap");
-                for i in 0..balls {
-                    let body = RigidBodyBuilder::dynamic()
-                        .translation(grid_point(i, side, spacing))
-                        .linvel(random_vector(&mut rng, 3.0))
-                        .can_sleep(false);
-                    b.ball(body, r, 1.0, material);
-                }
-                b
-            }
+            Scene::Gas2d | Scene::Gas3d => Self::effect(Effect::Walls, balls, mode),
             Scene::Billiards => {
                 // 15 racked balls and the cue ball, cloth as damping, CCD.
                 let mut b = Self::new(mode, 0.012, Vector::ZERO);
@@ -233,6 +220,43 @@ impl Bench {
         }
     }
 
+    /// The effects table's base in this dimension with `effect` on (see
+    /// [`Effect`]): `balls` elastic balls (radius 0.5, mass 1, thrown at up
+    /// to 3 m/s, never asleep) on a grid of the density of the adapter
+    /// tests' 500-ball gas, no gravity. With the walls it is the gas scene.
+    pub fn effect(effect: Effect, balls: usize, mode: Mode) -> Self {
+        let on = |e: Effect| if effect == e { 1.0 } else { 0.0 };
+        let mut b = Self::new(mode, 0.09 * on(Effect::Dissipation), -Vector::Y * 9.81 * on(Effect::Gravity));
+        let material = (0.5 * on(Effect::Friction), 1.0);
+        let r = 0.5;
+        let half = if DIM == 2 {
+            22.0 * (balls as f64 / 500.0).sqrt()
+        } else {
+            7.0 * (balls as f64 / 500.0).cbrt()
+        } as Real;
+        if effect == Effect::Walls {
+            b.closed_box(Vector::splat(half), 1.0, material);
+        }
+        b.read_events = effect == Effect::Events;
+        b.own_material = (effect == Effect::Materials)
+            .then(|| k::Material::new(0.0, 0.0).expect("zero is a valid dissipation"));
+        let side = per_side(balls);
+        let spacing = 2.0 * half / side as Real;
+        assert!(spacing > 2.0 * r, "the gas grid must not overlap");
+        // The spins from their own generator: the velocities stay the base's.
+        let (mut rng, mut spins) = (Xoshiro256PlusPlus::seed_from_u64(42), Xoshiro256PlusPlus::seed_from_u64(7));
+        for i in 0..balls {
+            let w = 6.0 * on(Effect::Spin) * spins.random_range(-1.0..1.0) as Real;
+            let body = RigidBodyBuilder::dynamic()
+                .translation(grid_point(i, side, spacing))
+                .linvel(random_vector(&mut rng, 3.0))
+                .angvel(AngVector::about_z(w))
+                .can_sleep(false);
+            b.ball(body, r, 1.0, material);
+        }
+        b
+    }
+
     /// One step through kimpact (`Mode::Native` too: identical code path),
     /// after driving the kinematic bodies.
     pub fn step(&mut self) {
@@ -244,6 +268,10 @@ impl Bench {
             }
         }
         self.kimpact.step_world(&mut self.world, &(), &());
+        if self.read_events {
+            let impulses = self.kimpact.events().iter().map(|e| e.impulse);
+            std::hint::black_box(impulses.sum::<Real>());
+        }
         self.time += self.world.integration_parameters.dt;
     }
 }
@@ -268,7 +296,10 @@ fn measured_block(bench: &mut Bench, n: usize, whole: bool, m: &mut Measure) {
 /// that `cli` asks for, as JSON.
 pub fn run(cli: &Cli) -> String {
     let (scene, balls, mode) = (cli.scene[0], cli.balls[0], cli.mode[0]);
-    let build = |mode| Bench::setup(scene, balls, mode);
+    let build = |mode| match cli.effect {
+        Some(effect) => Bench::effect(effect, balls, mode),
+        None => Bench::setup(scene, balls, mode),
+    };
     let json = match cli.pair {
         true => serde_json::to_string(&run_pair(cli, build)),
         false => serde_json::to_string(&run_solo(cli, || build(mode))),

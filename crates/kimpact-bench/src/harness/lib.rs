@@ -34,7 +34,7 @@ pub use files::{WriteError, machine, write_files};
 pub use measure::{GasSeries, ShortResult, gas_series, kinetic, momentum, short_run};
 pub use method::Method;
 pub use plot::{Panel, color, svg};
-pub use records::{AccuracySummary, BenchRow, ErrorRow};
+pub use records::{AccuracySummary, BenchRow, EffectRow, ErrorRow};
 pub use scenes::{
     DT, R, Rng, Setup, Velocities, ball_volume, cradle_setup, gas_setup, lattice, two_ball_setup,
     unit_x, z_setup,

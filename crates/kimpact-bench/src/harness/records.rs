@@ -44,6 +44,34 @@ pub struct BenchRow {
     pub error: Option<String>,
 }
 
+/// One row of the bench's `effects.csv` (`--effects`): a law mode on the
+/// effects table's base of one gas scene (`scene`, `balls`, `precision`)
+/// with `effect` alone on (`base`: none). Times as in [`BenchRow`]:
+/// `median_us` and `native_median_us`, their quotient `ratio`, their
+/// difference `delta_us` (what the mode adds to native's step);
+/// `base_delta_us` the same mode's `delta_us` on the base and `effect_us`
+/// their difference (what the effect costs kimpact). Per measured step:
+/// kimpact's own heap allocations (NaN: not attributed) and the impacts
+/// the law resolved; `error` why a run failed.
+#[allow(missing_docs)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct EffectRow {
+    pub effect: String,
+    pub scene: String,
+    pub precision: Precision,
+    pub balls: usize,
+    pub mode: Mode,
+    pub median_us: f64,
+    pub native_median_us: f64,
+    pub ratio: f64,
+    pub delta_us: f64,
+    pub base_delta_us: f64,
+    pub effect_us: f64,
+    pub kimpact_allocs_per_step: f64,
+    pub impacts_per_step: f64,
+    pub error: Option<String>,
+}
+
 /// One headline error of rapier in one mode and build on one scene of the
 /// accuracy study.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

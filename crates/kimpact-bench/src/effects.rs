@@ -1,0 +1,119 @@
+//! `--effects`: what each effect a scene can call for costs in every law
+//! mode. Every configuration of the table (the base, and the base with one
+//! effect on: see [`Effect`]) is a group of children as the matrix's, timed
+//! in lockstep with native rapier on the same configuration; each row sets
+//! what the mode adds to native's step beside what it adds on the base.
+
+use std::fmt::Write as _;
+use std::path::Path;
+use std::process::ExitCode;
+
+use kimpact_harness::{BenchRow, EffectRow};
+
+use crate::raw::{Group, Raw};
+use crate::report::{self, fmt_us};
+use crate::{Effect, Mode};
+
+/// The table's rows: every law mode of every configuration.
+pub fn rows(groups: &[Group]) -> Vec<EffectRow> {
+    let all: Vec<(&Group, Vec<BenchRow>)> = groups.iter().map(|g| (g, report::rows(g))).collect();
+    let base = |g: &Group, mode| {
+        let same = |b: &Group| (b.scene, b.balls, b.precision) == (g.scene, g.balls, g.precision);
+        let (_, rows) = all
+            .iter()
+            .find(|(b, _)| same(b) && b.effect == Some(Effect::Base))?;
+        Some(rows.iter().find(|r| r.mode == mode)?.delta_us)
+    };
+    let mut out = Vec::new();
+    for (g, rows) in &all {
+        for r in rows.iter().filter(|r| r.mode != Mode::Native) {
+            let base_delta_us = base(g, r.mode).unwrap_or(f64::NAN);
+            out.push(EffectRow {
+                effect: g.effect.map_or_else(String::new, Effect::name),
+                scene: r.scene.clone(),
+                precision: r.precision,
+                balls: r.balls,
+                mode: r.mode,
+                median_us: r.median_us,
+                native_median_us: r.native_median_us,
+                ratio: r.ratio,
+                delta_us: r.delta_us,
+                base_delta_us,
+                effect_us: r.delta_us - base_delta_us,
+                kimpact_allocs_per_step: r.kimpact_allocs_per_step,
+                impacts_per_step: r.impacts_per_step,
+                error: r.error.clone(),
+            });
+        }
+    }
+    out
+}
+
+/// One scene's effects table as markdown.
+fn markdown(raw: &Raw, rows: &[&EffectRow]) -> String {
+    let (h, c) = (&raw.header, &raw.header.cli);
+    let mut s = format!(
+        "## kimpact-bench effects: {}\n\n- command: `{}`\n- machine: {}\n",
+        rows.first().map_or("", |r| &r.scene),
+        h.command,
+        h.machine
+    );
+    let _ = writeln!(
+        s,
+        "- base: the gas scene's balls with no effect at all (no gravity, d̃ = 0, no friction, no spin, no walls, nobody reading the impact events, no material); each other configuration switches one effect on. Each timing run is one process stepping native rapier and one mode on two copies of the configuration in lockstep ({} warm-up steps, then {} measured steps each, alternated in blocks of {}); {} timing run(s) per mode and configuration; allocations attributed in a separate process per mode ({} steps after {} warm-up steps); wall time {:.0} s",
+        c.warmup,
+        c.steps,
+        c.block,
+        c.rounds.max(1),
+        c.memory_steps,
+        c.memory_warmup.unwrap_or(c.warmup),
+        h.wall_s
+    );
+    s += "- native and mode: median CPU time per step in the configuration's timing runs; ×native: their ratio; added: mode − native, what the mode adds to rapier's step; effect: added − the base's added in the same mode, what the effect costs kimpact; kimpact's allocs/step: attributed from their stacks (? when not)\n\n";
+    s += "| prec | balls | effect | mode | native | mode | ×native | added | effect | kimpact's allocs/step | impacts/step | notes |\n";
+    s += "|---|---:|---|---|---:|---:|---:|---:|---:|---:|---:|---|\n";
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {} | {} | {:.3} | {:+.2} µs | {:+.2} µs | {:.2} | {:.2} | {} |",
+            r.precision,
+            r.balls,
+            r.effect,
+            r.mode,
+            fmt_us(r.native_median_us),
+            fmt_us(r.median_us),
+            r.ratio,
+            r.delta_us,
+            r.effect_us,
+            r.kimpact_allocs_per_step,
+            r.impacts_per_step,
+            r.error.as_deref().unwrap_or_default()
+        );
+    }
+    s
+}
+
+/// Print each scene's effects table and write it into
+/// `dir/effects-<scene>/` (`effects.md`, `effects.csv`), whole.
+pub fn render(dir: &Path, raw: &Raw) -> ExitCode {
+    let rows = rows(&raw.groups);
+    let mut files = Vec::new();
+    for scene in crate::set(rows.iter().map(|r| &r.scene)) {
+        let mine: Vec<&EffectRow> = rows.iter().filter(|r| &r.scene == scene).collect();
+        let md = markdown(raw, &mine);
+        println!("{md}");
+        let csv = match report::csv(&mine) {
+            Ok(csv) => csv,
+            Err(e) => {
+                eprintln!("cannot write the CSV: {e}");
+                return ExitCode::FAILURE;
+            }
+        };
+        let folder = dir.join(format!("effects-{scene}"));
+        files.extend([
+            (folder.join("effects.md"), md.into()),
+            (folder.join("effects.csv"), csv),
+        ]);
+    }
+    report::write(dir, &files)
+}
