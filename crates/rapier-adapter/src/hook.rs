@@ -112,10 +112,9 @@ impl StepHooks<'_> {
             .marks
             .governs(self.fixed_partners, colliders, bodies, c1, c2)
         {
-            if self.mode == Mode::Restitution
-                && self
-                    .marks
-                    .governs_rigid(self.fixed_partners, colliders, bodies, c1, c2)
+            if self
+                .marks
+                .governs_rigid(self.fixed_partners, colliders, bodies, c1, c2)
             {
                 self.respond_rigid(context, &frame);
             }
@@ -226,6 +225,9 @@ impl StepHooks<'_> {
                 // an elastic gas lost its energy faster than native rapier);
                 // it is not a new impact, and not reported.
                 *rigid.restitution = r.coefficient;
+                if fresh {
+                    self.set_impact_friction(rigid, c1, c2);
+                }
                 // A fresh one is kept for the report if the bodies can meet
                 // within the step; reported if rapier's contact then carried
                 // an impulse (a speculative contact further away gets none,
@@ -240,15 +242,17 @@ impl StepHooks<'_> {
         }
     }
 
-    /// Restitution mode, a pair with a marked collider of another shape than
+    /// Every law mode, a pair with a marked collider of another shape than
     /// a centred ball on a dynamic body: the law's restitution for the two
     /// as rigid bodies at the manifold's contact (the centroid of its
     /// solver contacts, their velocities at the start of the step),
     /// written into the manifold for rapier's solver, whose solver contacts
     /// are merged into one there; no bounce when the contact points close
-    /// at most at the rest speed. The pair is never
-    /// the replay's (which moves bodies as points) and has no graze test
-    /// (its cast is linear, the bodies turn).
+    /// at most at the rest speed. With impact friction, the manifold's
+    /// friction coefficient is the pair's `μ` for a fresh impact. The pair
+    /// is never the replay's (which moves bodies as points, in impulse and
+    /// exact mode too) and has no graze test (its cast is linear, the
+    /// bodies turn).
     fn respond_rigid(&self, context: &mut ContactModificationContext, frame: &StepFrame) {
         let (bodies, rb1, rb2) = (context.bodies, context.rigid_body1, context.rigid_body2);
         let (c1, c2) = (context.collider1, context.collider2);
@@ -288,6 +292,9 @@ impl StepHooks<'_> {
             return;
         };
         *rigid.restitution = impact.restitution;
+        if fresh {
+            self.set_impact_friction(rigid, c1, c2);
+        }
         // rapier's solver bounces each solver contact of a manifold by the
         // restitution, one after another: with several (a bar landing on
         // its edge, a box on its face) their impulses together differ from
@@ -321,6 +328,23 @@ impl StepHooks<'_> {
                 by_replay: false,
                 rigid: Some(impact),
             });
+        }
+    }
+
+    /// A fresh impact of colliders `c1` and `c2` bounced by rapier's solver:
+    /// with impact friction, the manifold's friction coefficient is the
+    /// pair's `μ` (rapier's friction then stops the contact points'
+    /// tangential velocity within `μ` times the normal impulse: the
+    /// tangential restitution `β` is not matched, see docs/friction.md).
+    fn set_impact_friction(
+        &self,
+        rigid: &mut ModifiableManifold,
+        c1: ColliderHandle,
+        c2: ColliderHandle,
+    ) {
+        let friction = self.marks.friction(c1, c2);
+        if !friction.is_frictionless() {
+            *rigid.friction = friction.impact_friction();
         }
     }
 

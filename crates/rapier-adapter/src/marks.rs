@@ -1,9 +1,9 @@
 //! Which colliders follow the law, and which pairs the law governs.
 
-use kimpact::Law;
+use kimpact::{ImpactFriction, Law};
 
 use crate::body_view::translations_locked;
-use crate::material::{Material, pair_law};
+use crate::material::{Material, pair_friction, pair_law};
 use crate::math::Real;
 use crate::rapier::prelude::*;
 
@@ -128,6 +128,16 @@ impl Marks {
             return *base;
         }
         pair_law(base, self.material(c1), self.material(c2))
+    }
+
+    /// The impact friction for the pair `c1`/`c2`: frictionless unless
+    /// either carries a material with it (see [`Material`]).
+    #[inline]
+    pub(crate) fn friction(&self, c1: ColliderHandle, c2: ColliderHandle) -> ImpactFriction<Real> {
+        if self.materials.is_empty() {
+            return ImpactFriction::frictionless();
+        }
+        pair_friction(self.material(c1), self.material(c2))
     }
 
     /// Whether `handle` is marked.

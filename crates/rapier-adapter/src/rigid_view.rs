@@ -14,13 +14,13 @@ pub(crate) type LawRigid = kimpact::RigidBody<Real, DIM>;
 
 /// The law's angular velocity of rapier body `rb` (world frame).
 #[cfg(feature = "dim2")]
-fn angular(rb: &RigidBody) -> kimpact::Angular<Real, DIM> {
+pub(crate) fn angular(rb: &RigidBody) -> kimpact::Angular<Real, DIM> {
     rb.angvel()
 }
 
 /// The law's angular velocity of rapier body `rb` (world frame).
 #[cfg(feature = "dim3")]
-fn angular(rb: &RigidBody) -> kimpact::Angular<Real, DIM> {
+pub(crate) fn angular(rb: &RigidBody) -> kimpact::Angular<Real, DIM> {
     let w = rb.angvel();
     nalgebra::Vector3::new(w.x, w.y, w.z)
 }
@@ -28,14 +28,14 @@ fn angular(rb: &RigidBody) -> kimpact::Angular<Real, DIM> {
 /// The world inverse inertia of rapier body `rb` as its solver uses it
 /// (rows and columns of locked rotations zero).
 #[cfg(feature = "dim2")]
-fn inverse_inertia(rb: &RigidBody) -> kimpact::InverseInertia<Real, DIM> {
+pub(crate) fn inverse_inertia(rb: &RigidBody) -> kimpact::InverseInertia<Real, DIM> {
     rb.mass_properties().effective_world_inv_inertia
 }
 
 /// The world inverse inertia of rapier body `rb` as its solver uses it
 /// (rows and columns of locked rotations zero).
 #[cfg(feature = "dim3")]
-fn inverse_inertia(rb: &RigidBody) -> kimpact::InverseInertia<Real, DIM> {
+pub(crate) fn inverse_inertia(rb: &RigidBody) -> kimpact::InverseInertia<Real, DIM> {
     let m = rb.mass_properties().effective_world_inv_inertia;
     nalgebra::Matrix3::new(
         m.m11, m.m12, m.m13, m.m12, m.m22, m.m23, m.m13, m.m23, m.m33,
@@ -43,7 +43,7 @@ fn inverse_inertia(rb: &RigidBody) -> kimpact::InverseInertia<Real, DIM> {
 }
 
 /// No rotation, in this dimension.
-fn zero_angular() -> kimpact::Angular<Real, DIM> {
+pub(crate) fn zero_angular() -> kimpact::Angular<Real, DIM> {
     Default::default()
 }
 

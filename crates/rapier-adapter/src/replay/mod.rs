@@ -45,7 +45,7 @@ use kimpact::{Law, Mass};
 use crate::body_view::{LawBody, Starts, dominate, law_body};
 use crate::candidates::Candidate;
 use crate::config::Config;
-use crate::events::EventLog;
+use crate::events::{EventLog, Outcome};
 use crate::frame::StepFrame;
 use crate::leaves::{LeafGrid, for_each_leaf};
 use crate::marks::Marks;
@@ -105,6 +105,9 @@ struct Node {
     mass: Real,
     /// The body's dominance group (rapier's), read with `mass`.
     dominance: i8,
+    /// Its rotation in [`Replay::spins`] once a pair with impact friction
+    /// meets it ([`spin::NO_SPIN`] until then).
+    spin: u32,
 }
 
 impl Node {
@@ -184,9 +187,11 @@ impl Pair {
 mod nodes;
 mod predict;
 mod queue;
+mod spin;
 mod sweep;
 
 use queue::PairQueue;
+use spin::{NO_SPIN, Spin};
 
 /// Approach speeds below this times the sum of the two bodies' speeds are
 /// resting contacts: rounding level (7.6e-6 in f32, 1.4e-14 in f64).
@@ -255,6 +260,9 @@ pub(crate) struct Replay {
     /// half-size over the rest of the step; zero (always) in the others.
     chain_share: Real,
     nodes: Vec<Node>,
+    /// The rotations of the nodes that pairs with impact friction met
+    /// this run (see [`Node::spin`]).
+    spins: Vec<Spin>,
     /// The dynamic nodes whose path the law bent this run, in the order of
     /// their first impact (the write-back walks these, not every node).
     hit: Vec<usize>,
@@ -571,6 +579,7 @@ impl Replay {
             if x.is_finite() && v.is_finite() {
                 rb.set_translation(x, true);
                 rb.set_linvel(v, true);
+                self.write_spin(n, rb);
                 out.woken.push(h);
             }
         }
@@ -708,14 +717,30 @@ impl Replay {
             // The pair approaches faster than the rest speed: `predict`
             // queued it only then, and neither velocity has changed since.
             let law = input.marks.law(input.law, pair.c1, pair.c2);
-            let Some(impact) = law.resolve_unit(&ba, &bb, &to_law(pair.normal)) else {
-                continue;
+            let friction = input.marks.friction(pair.c1, pair.c2);
+            let (outcome, delta_v) = if friction.is_frictionless() {
+                let Some(impact) = law.resolve_unit(&ba, &bb, &to_law(pair.normal)) else {
+                    continue;
+                };
+                (Outcome::from(&impact), [impact.delta_v_a, impact.delta_v_b])
+            } else {
+                let Some(impact) = self.resolve_with_friction(
+                    bodies,
+                    colliders,
+                    &pair,
+                    (&la, &lb),
+                    &law,
+                    &friction,
+                    t,
+                ) else {
+                    continue;
+                };
+                self.turn(pair.a, &impact.delta_omega_a, t.max(0.0), dt);
+                self.turn(pair.b, &impact.delta_omega_b, t.max(0.0), dt);
+                (Outcome::from(&impact), [impact.delta_v_a, impact.delta_v_b])
             };
             events += 1;
-            for (n, dv, m) in [
-                (pair.a, impact.delta_v_a, la.mass),
-                (pair.b, impact.delta_v_b, lb.mass),
-            ] {
+            for (n, dv, m) in [(pair.a, delta_v[0], la.mass), (pair.b, delta_v[1], lb.mass)] {
                 let node = &mut self.nodes[n];
                 // (A dominant body's path stays as it is.)
                 if !node.dynamic || m.is_infinite() {
@@ -732,7 +757,7 @@ impl Replay {
                     self.hit.push(n);
                 }
             }
-            out.log.push(&candidate, t, pair.point, &impact, false);
+            out.log.push(&candidate, t, pair.point, outcome, false);
             // Chains: neighbours of both bodies, then fresh predictions for
             // every pair of the two bodies from now on.
             let from = t.max(0.0);

@@ -22,6 +22,7 @@ impl Replay {
         self.degrees.clear();
         self.crowd_pairs.clear();
         self.hit.clear();
+        self.spins.clear();
         self.stamp = self.stamp.wrapping_add(1);
         if self.stamp == 0 {
             // Wrapped: forget every old stamp.
@@ -143,6 +144,7 @@ impl Replay {
                     sweep_due: None,
                     mass: Real::NAN,
                     dominance: 0,
+                    spin: NO_SPIN,
                 }
             }
             Some(rb) => {
@@ -165,6 +167,7 @@ impl Replay {
                     sweep_due: None,
                     mass: Real::NAN,
                     dominance: 0,
+                    spin: NO_SPIN,
                 }
             }
             None => Node {
@@ -183,6 +186,7 @@ impl Replay {
                 sweep_due: None,
                 mass: Real::NAN,
                 dominance: 0,
+                spin: NO_SPIN,
             },
         };
         let i = self.nodes.len();
