@@ -321,3 +321,29 @@ fn bad_impact_friction_is_refused_by_key() {
         );
     }
 }
+
+/// rapier caps a body's angular speed at a quarter turn per step (π/4 per
+/// `dt`, 15π rad/s at 60 Hz) unless the body allows fast rotation: a ball
+/// spun at 100 rad/s keeps it with `allow_fast_rotation: true` and is
+/// capped to 15π rad/s without (what took the break's spin energy).
+#[test]
+fn allow_fast_rotation_lifts_rapier_s_angular_speed_cap() {
+    for (allow, want) in [(true, 100.0), (false, 15.0 * std::f64::consts::PI)] {
+        let path = write(
+            &format!("fast-{allow}.ron"),
+            &format!(
+                r#"(dim: 3, precision: "f64", steps: 3, effects: ["spin"], bodies: [
+                    (shape: "ball", radius: {R:?}, mass: {M:?}, position: [0.0, 0.0, 0.0], angular_velocity: [0.0, 0.0, 100.0], allow_fast_rotation: {allow}),
+                ])"#
+            ),
+        );
+        for mode in ["native", "exact"] {
+            let r = report(&["run", path.to_str().unwrap(), "--mode", mode]);
+            let w = spin_z(&r["bodies"][0]);
+            assert!(
+                (w - want).abs() < 1e-9 * want,
+                "allow_fast_rotation {allow}, {mode}: {w} rad/s, want {want}"
+            );
+        }
+    }
+}

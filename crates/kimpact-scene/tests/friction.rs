@@ -219,3 +219,27 @@ fn a_smooth_material_is_given_too_when_impact_friction_is_on() {
     assert!(!smooth.has_impact_friction());
     assert_eq!(s.effective_material(2), None, "no material written");
 }
+
+/// `allow_fast_rotation` (rapier's lift of its angular speed cap): false
+/// unless written, and refused on a fixed body by its key.
+#[test]
+fn allow_fast_rotation_is_read_and_refused_on_fixed_bodies() {
+    let s = load(
+        r#"(dim: 2, steps: 5, bodies: [
+            (shape: "ball", radius: 0.1, mass: 1.0, position: [0.0, 0.0], allow_fast_rotation: true),
+            (shape: "ball", radius: 0.1, mass: 1.0, position: [1.0, 0.0]),
+        ])"#,
+    )
+    .unwrap();
+    assert!(s.bodies[0].allow_fast_rotation);
+    assert!(!s.bodies[1].allow_fast_rotation);
+    let e = load(
+        r#"(dim: 2, steps: 5, effects: ["fixed_walls"], bodies: [
+            (shape: "ball", radius: 0.1, mass: 1.0, position: [0.0, 0.0]),
+            (shape: "box", half_extents: [0.1, 1.0], position: [1.0, 0.0], fixed: true, allow_fast_rotation: true),
+        ])"#,
+    )
+    .expect_err("refused");
+    assert_eq!(e.field, "bodies[1].allow_fast_rotation");
+    assert!(e.message.contains("a fixed body does not turn"), "{e}");
+}
