@@ -44,7 +44,7 @@ fn stage_scene(mode: Mode) -> (TestWorld, Vec<RigidBodyHandle>) {
 /// Step `w` through the three public stages around rapier's own step.
 fn step_by_stages(w: &mut TestWorld) {
     let world = &mut w.world;
-    w.kimpact.before_step(
+    let prepared = w.kimpact.before_step(
         world.gravity,
         &world.integration_parameters,
         &world.islands,
@@ -52,9 +52,6 @@ fn step_by_stages(w: &mut TestWorld) {
         &world.narrow_phase,
         &mut world.bodies,
         &mut world.colliders,
-        &world.impulse_joints,
-        &world.multibody_joints,
-        &(),
     );
     world.physics_pipeline.step(
         world.gravity,
@@ -68,20 +65,19 @@ fn step_by_stages(w: &mut TestWorld) {
         &mut world.multibody_joints,
         &mut world.soft_bodies,
         &mut world.ccd_solver,
-        &w.kimpact.hooks(&()),
+        &w.kimpact.hooks(&prepared, &()),
         &(),
     );
-    w.kimpact
-        .after_step(
-            &world.narrow_phase,
-            &world.broad_phase,
-            &mut world.bodies,
-            &world.colliders,
-            &world.impulse_joints,
-            &world.multibody_joints,
-            &(),
-        )
-        .unwrap();
+    w.kimpact.after_step(
+        prepared,
+        &world.narrow_phase,
+        &world.broad_phase,
+        &mut world.bodies,
+        &world.colliders,
+        &world.impulse_joints,
+        &world.multibody_joints,
+        &(),
+    );
 }
 
 #[test]
@@ -158,25 +154,6 @@ fn switching_from_native_between_steps_takes_the_next_impacts() {
             }
         }
     }
-}
-
-#[test]
-fn after_step_without_before_step_is_an_error_and_changes_nothing() {
-    let (mut w, balls) = stage_scene(Mode::Exact);
-    w.step();
-    let before = w.bits(&balls);
-    let world = &mut w.world;
-    let result = w.kimpact.after_step(
-        &world.narrow_phase,
-        &world.broad_phase,
-        &mut world.bodies,
-        &world.colliders,
-        &world.impulse_joints,
-        &world.multibody_joints,
-        &(),
-    );
-    assert_eq!(result, Err(k::StageError::NotPrepared));
-    assert_eq!(w.bits(&balls), before);
 }
 
 /// Two balls of equal mass with restitution 0 (rapier alone makes their
@@ -522,9 +499,9 @@ fn mode_stats_and_precision_are_the_core_s_types() {
     assert_eq!("impulse".parse::<k::Mode>(), Ok(mode));
 }
 
-/// `Kimpact` and the hooks of a step print the user's state (law, mode,
-/// configuration, how many colliders are marked, the totals), not a
-/// step's scratch.
+/// `Kimpact` prints the user's state (law, mode, configuration, how many
+/// colliders are marked, the totals), not a step's scratch; a prepared
+/// step and its hooks print the step's mode.
 #[test]
 fn the_resolver_and_its_hooks_are_debug() {
     let mut w = TestWorld::new(Mode::Impulse, 0.0, Vector::ZERO);
@@ -535,6 +512,18 @@ fn the_resolver_and_its_hooks_are_debug() {
     for part in ["Kimpact", "mode: Impulse", "marked: 2", "steps: 1", "config: Config"] {
         assert!(shown.contains(part), "{part:?} not in {shown}");
     }
-    let hooks = format!("{:?}", w.kimpact.hooks(&()));
-    assert!(hooks.starts_with("StepHooks") && hooks.contains("mode: Native"), "{hooks}");
+    let world = &mut w.world;
+    let prepared = w.kimpact.before_step(
+        world.gravity,
+        &world.integration_parameters,
+        &world.islands,
+        &world.broad_phase,
+        &world.narrow_phase,
+        &mut world.bodies,
+        &mut world.colliders,
+    );
+    let step = format!("{prepared:?}");
+    assert!(step.starts_with("PreparedStep") && step.contains("mode: Impulse"), "{step}");
+    let hooks = format!("{:?}", w.kimpact.hooks(&prepared, &()));
+    assert!(hooks.starts_with("StepHooks") && hooks.contains("mode: Impulse"), "{hooks}");
 }

@@ -86,7 +86,7 @@
 //! assert!(lost >= 0.0 && (lost - impact.dissipated).abs() < 1e-12);
 //! # Ok::<(), kimpact::LawError>(())
 //! ```
-#![warn(missing_docs)]
+#![warn(missing_docs, missing_debug_implementations)]
 #![forbid(unsafe_code)]
 
 // The README's examples are tests too (it is the crate's page on crates.io).

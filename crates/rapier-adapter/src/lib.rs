@@ -83,4 +83,4 @@ pub use events::{ImpactEvent, Stats};
 pub use hook::StepHooks;
 pub use material::Material;
 pub use mode::{Mode, ParseModeError};
-pub use resolver::{HandleError, Kimpact, StageError};
+pub use resolver::{HandleError, Kimpact, PreparedStep};

@@ -22,5 +22,5 @@
 
 pub use crate::{
     Config, ConfigError, FixedPartner, HandleError, ImpactEvent, Kimpact, Law, LawError, LawParams,
-    Material, Mode, StageError, Stats, StepHooks,
+    Material, Mode, PreparedStep, Stats, StepHooks,
 };
