@@ -84,7 +84,9 @@ pub use kimpact2d as kimpact_rapier;
 #[cfg(feature = "dim3")]
 pub use kimpact3d as kimpact_rapier;
 
-pub use kimpact_rapier::{Config, FixedPartner, ImpactEvent, LawParams, Material, Mode, Stats};
+pub use kimpact_rapier::{
+    FixedPartner, ImpactEvent, LawParams, Material, Mode, ResolverConfig, Stats,
+};
 
 mod components;
 mod hooks;

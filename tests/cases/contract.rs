@@ -229,38 +229,38 @@ fn handles_not_in_the_collider_set_change_nothing() {
 
 #[test]
 fn invalid_settings_are_rejected_and_the_old_ones_kept() {
-    use k::{Config, ConfigError, Kimpact};
+    use k::{ResolverConfig, ResolverConfigError, Kimpact};
     for bad in [Real::NAN, Real::INFINITY, -1.0] {
-        let config = Config {
+        let config = ResolverConfig {
             rest_speed: Some(bad),
-            ..Config::default()
+            ..ResolverConfig::default()
         };
         assert!(matches!(
             Kimpact::with_config(Law::elastic(), Mode::Exact, config),
-            Err(ConfigError::RestSpeed(_))
+            Err(ResolverConfigError::RestSpeed(_))
         ));
         let mut kimpact = Kimpact::new(Law::elastic(), Mode::Exact);
-        assert!(matches!(kimpact.set_config(config), Err(ConfigError::RestSpeed(_))));
-        assert_eq!(*kimpact.config(), Config::default());
-        let message = ConfigError::RestSpeed(bad).to_string();
+        assert!(matches!(kimpact.set_config(config), Err(ResolverConfigError::RestSpeed(_))));
+        assert_eq!(*kimpact.config(), ResolverConfig::default());
+        let message = ResolverConfigError::RestSpeed(bad).to_string();
         assert!(message.contains("rest_speed"), "{message}");
     }
-    let zero = Config {
+    let zero = ResolverConfig {
         max_events_per_step: 0,
-        ..Config::default()
+        ..ResolverConfig::default()
     };
     assert_eq!(
         Kimpact::with_config(Law::elastic(), Mode::Exact, zero).err(),
-        Some(ConfigError::MaxEventsPerStep)
+        Some(ResolverConfigError::MaxEventsPerStep)
     );
     let mut kimpact = Kimpact::new(Law::elastic(), Mode::Exact);
-    let fine = Config {
+    let fine = ResolverConfig {
         rest_speed: Some(0.0),
         max_events_per_step: 1,
-        ..Config::default()
+        ..ResolverConfig::default()
     };
     kimpact.set_config(fine).unwrap();
-    assert_eq!(kimpact.set_config(zero), Err(ConfigError::MaxEventsPerStep));
+    assert_eq!(kimpact.set_config(zero), Err(ResolverConfigError::MaxEventsPerStep));
     assert_eq!(*kimpact.config(), fine);
 }
 
@@ -313,9 +313,9 @@ fn a_pile_at_rest_still_sleeps() {
 /// change after 600 steps and whether any ball fell asleep.
 fn sleepy_gas(keep_moving_awake: bool) -> (f64, bool, u64) {
     let mut w = TestWorld::new(Mode::Exact, 0.0, Vector::ZERO);
-    let config = k::Config {
+    let config = k::ResolverConfig {
         keep_moving_awake,
-        ..k::Config::default()
+        ..k::ResolverConfig::default()
     };
     w.kimpact.set_config(config).unwrap();
     w.closed_box(5.0, 0.5);
@@ -509,7 +509,7 @@ fn the_resolver_and_its_hooks_are_debug() {
     w.ball(Vector::X * 3.0, Vector::ZERO, 0.5, 1.0);
     w.step();
     let shown = format!("{:?}", w.kimpact);
-    for part in ["Kimpact", "mode: Impulse", "marked: 2", "steps: 1", "config: Config"] {
+    for part in ["Kimpact", "mode: Impulse", "marked: 2", "steps: 1", "config: ResolverConfig"] {
         assert!(shown.contains(part), "{part:?} not in {shown}");
     }
     let world = &mut w.world;

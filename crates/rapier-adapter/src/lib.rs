@@ -78,7 +78,7 @@ mod sweep_grid;
 #[cfg(test)]
 mod test_rng;
 
-pub use config::{Config, ConfigError};
+pub use config::{ResolverConfig, ResolverConfigError};
 pub use events::{ImpactEvent, Stats};
 pub use hook::StepHooks;
 pub use material::Material;

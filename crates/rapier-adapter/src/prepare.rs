@@ -107,13 +107,13 @@ pub(crate) struct Prepare {
     #[cfg_attr(feature = "serde-serialize", serde(skip))]
     pub starts: Starts,
     /// Flagged bodies whose sleep timer runs while they move faster than
-    /// the rest speed (`Config::keep_moving_awake`): woken by
+    /// the rest speed (`ResolverConfig::keep_moving_awake`): woken by
     /// [`Prepare::wake_moving`].
     #[cfg_attr(feature = "serde-serialize", serde(skip))]
     to_wake: Vec<RigidBodyHandle>,
-    /// Calm neighbourhoods (`Config::calm_neighbourhoods`).
+    /// Calm neighbourhoods (`ResolverConfig::calm_neighbourhoods`).
     calm: Calm,
-    /// This step's `Config::fixed_partners`: whether a moving kinematic
+    /// This step's `ResolverConfig::fixed_partners`: whether a moving kinematic
     /// body's colliders are flagged (see [`Prepare::flag`]).
     #[cfg_attr(feature = "serde-serialize", serde(skip))]
     partners: bool,
@@ -257,7 +257,7 @@ impl Prepare {
 
     /// Restart the sleep timer (rapier's `wake_up(true)`) of every body
     /// flagged this step that moves faster than `rest_speed` and whose
-    /// timer runs (noted while flagging, with `Config::keep_moving_awake`),
+    /// timer runs (noted while flagging, with `ResolverConfig::keep_moving_awake`),
     /// so that rapier never puts a marked body to sleep (and zeroes its
     /// velocity) while it moves faster than the rest speed. A body at rest
     /// (a settled pile) is never flagged and sleeps as rapier lets it.
@@ -381,7 +381,7 @@ impl Prepare {
     /// Set the hook flag on the marked colliders of body `handle`, `rb`
     /// (leaving a flag the user set alone); whether it has any marked
     /// collider. A kinematic body's colliders are all flagged with
-    /// `Config::fixed_partners` (they meet marked colliders by the law,
+    /// `ResolverConfig::fixed_partners` (they meet marked colliders by the law,
     /// marked or not). Notes, for each collider flagged, whether it is swept
     /// or crowded (restitution mode), and whether the body's sleep timer
     /// must restart.

@@ -6,7 +6,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use kimpact::{Law, LawError, LawParams};
 
 use crate::candidates::Candidates;
-use crate::config::{Config, ConfigError};
+use crate::config::{ResolverConfig, ResolverConfigError};
 use crate::events::{EventLog, ImpactEvent, Stats};
 use crate::frame::StepFrame;
 use crate::hook::StepHooks;
@@ -80,7 +80,7 @@ pub struct PreparedStep {
 pub struct Kimpact {
     law: Law<Real>,
     mode: Mode,
-    config: Config,
+    config: ResolverConfig,
     /// The marked colliders.
     #[cfg_attr(feature = "serde-serialize", serde(rename = "marked"))]
     marks: Marks,
@@ -116,21 +116,25 @@ impl std::fmt::Debug for Kimpact {
 }
 
 impl Kimpact {
-    /// A resolver applying `law` in `mode`, with the default [`Config`].
+    /// A resolver applying `law` in `mode`, with the default [`ResolverConfig`].
     pub fn new(law: Law<Real>, mode: Mode) -> Self {
-        Self::build(law, mode, Config::default())
+        Self::build(law, mode, ResolverConfig::default())
     }
 
-    /// A resolver with an explicit [`Config`].
+    /// A resolver with an explicit [`ResolverConfig`].
     ///
     /// # Errors
-    /// A [`ConfigError`] naming the first invalid field of `config`.
-    pub fn with_config(law: Law<Real>, mode: Mode, config: Config) -> Result<Self, ConfigError> {
+    /// A [`ResolverConfigError`] naming the first invalid field of `config`.
+    pub fn with_config(
+        law: Law<Real>,
+        mode: Mode,
+        config: ResolverConfig,
+    ) -> Result<Self, ResolverConfigError> {
         config.validate()?;
         Ok(Self::build(law, mode, config))
     }
 
-    fn build(law: Law<Real>, mode: Mode, config: Config) -> Self {
+    fn build(law: Law<Real>, mode: Mode, config: ResolverConfig) -> Self {
         Self {
             law,
             mode,
@@ -168,16 +172,16 @@ impl Kimpact {
     }
 
     /// The configuration.
-    pub fn config(&self) -> &Config {
+    pub fn config(&self) -> &ResolverConfig {
         &self.config
     }
 
     /// Change the configuration between steps.
     ///
     /// # Errors
-    /// A [`ConfigError`] naming the first invalid field; the old
+    /// A [`ResolverConfigError`] naming the first invalid field; the old
     /// configuration stays in force.
-    pub fn set_config(&mut self, config: Config) -> Result<(), ConfigError> {
+    pub fn set_config(&mut self, config: ResolverConfig) -> Result<(), ResolverConfigError> {
         config.validate()?;
         self.config = config;
         Ok(())
@@ -185,7 +189,7 @@ impl Kimpact {
 
     /// Mark `collider` of `colliders`: its contacts with other marked
     /// colliders (and with fixed or kinematic bodies, see
-    /// [`Config::fixed_partners`]) follow the law. Marking costs nothing
+    /// [`ResolverConfig::fixed_partners`]) follow the law. Marking costs nothing
     /// until the collider's body moves; marking a marked collider again
     /// changes nothing.
     ///
