@@ -60,7 +60,7 @@
 //! `RapierContextSimulation::step_stats` describe the frame's last step (each
 //! step is its own `step_simulation` call); the [`ImpactMessage`]s cover
 //! every step.
-#![warn(missing_docs)]
+#![warn(missing_docs, missing_debug_implementations)]
 #![forbid(unsafe_code)]
 
 #[cfg(not(any(feature = "dim2", feature = "dim3")))]
