@@ -54,7 +54,8 @@ pub use kimpact::{FixedPartner, Law, LawError, LawParams, Precision};
 // calm, prepare                 stage 1: hook flags and starts
 // replay                        stages 1 and 3: impacts in time order
 // hook                          stage 2: the contact hook
-// resolver                      Kimpact: the public resolver and its stages
+// resolver                      Kimpact: the public resolver and its stages;
+//                               resolver/snapshot: its saved form
 mod body_view;
 mod calm;
 mod candidates;
@@ -83,4 +84,4 @@ pub use events::{ImpactEvent, Stats};
 pub use hook::StepHooks;
 pub use material::Material;
 pub use mode::{Mode, ParseModeError};
-pub use resolver::{HandleError, Kimpact, PreparedStep};
+pub use resolver::{HandleError, Kimpact, PreparedStep, Snapshot, SnapshotError};

@@ -70,33 +70,23 @@ pub struct PreparedStep {
 ///
 /// (`examples/stages.rs` runs it.)
 ///
-/// With the `serde-serialize` feature it serializes with rapier's world (the
-/// scratch space of a step is skipped: it is empty between steps), so a
-/// saved and restored simulation continues bit for bit.
-#[cfg_attr(
-    feature = "serde-serialize",
-    derive(serde::Serialize, serde::Deserialize)
-)]
+/// [`Kimpact::snapshot`] saves its state between steps and
+/// [`Kimpact::from_snapshot`] restores it: with rapier's world of the same
+/// moment, the simulation continues bit for bit.
 pub struct Kimpact {
     law: Law<Real>,
     mode: Mode,
     config: ResolverConfig,
     /// The marked colliders.
-    #[cfg_attr(feature = "serde-serialize", serde(rename = "marked"))]
     marks: Marks,
     /// Hook flags, starts, and the bodies to look at in the next step.
-    #[cfg_attr(feature = "serde-serialize", serde(flatten))]
     prepare: Prepare,
     /// The pairs the hook hands over during the step.
-    #[cfg_attr(feature = "serde-serialize", serde(skip))]
     candidates: Candidates,
     /// Pairs the hook's runtime guard cut off during the step.
-    #[cfg_attr(feature = "serde-serialize", serde(skip))]
     guarded: AtomicU64,
     /// This step's events and the totals.
-    #[cfg_attr(feature = "serde-serialize", serde(flatten))]
     log: EventLog,
-    #[cfg_attr(feature = "serde-serialize", serde(skip))]
     replay: Replay,
 }
 
@@ -563,6 +553,10 @@ impl Kimpact {
         }
     }
 }
+
+mod snapshot;
+
+pub use snapshot::{Snapshot, SnapshotError};
 
 #[cfg(test)]
 mod sweep_tests;
