@@ -119,12 +119,15 @@ pub(crate) struct Taken {
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(
     feature = "serde-serialize",
-    derive(serde::Serialize, serde::Deserialize)
+    derive(serde::Serialize, serde::Deserialize),
+    serde(deny_unknown_fields)
 )]
 pub(crate) struct CalmSchedule {
-    /// Steps to wait before the next try.
+    /// Steps to wait before the next try (the test backs off where it does
+    /// not pay: few calm bodies, or few pairs in contact reach among them,
+    /// as in a gas).
     pub wait: u32,
-    /// The last wait.
+    /// The last wait, doubled at each try that pays too little.
     pub backoff: u32,
     /// Fast bodies at the last `prepare`.
     pub last_fast: u32,
@@ -136,16 +139,8 @@ pub(crate) struct CalmSchedule {
 /// steady state.
 #[derive(Default)]
 pub(crate) struct Calm {
-    /// Steps to wait before the next try (the test backs off where it does
-    /// not pay: few calm bodies, or few pairs in contact reach among them,
-    /// as in a gas).
-    wait: u32,
-    /// The last wait, doubled at each try that pays too little.
-    backoff: u32,
-    /// Fast bodies at the last `prepare`.
-    pub last_fast: u32,
-    /// Awake bodies at the last `prepare`.
-    pub last_awake: u32,
+    /// When the test is tried next.
+    pub schedule: CalmSchedule,
     scratch: Scratch,
 }
 
@@ -195,28 +190,9 @@ impl Calm {
     /// A test that tries next as `schedule` says, with an empty scratch
     /// space.
     pub fn with_schedule(schedule: CalmSchedule) -> Self {
-        let CalmSchedule {
-            wait,
-            backoff,
-            last_fast,
-            last_awake,
-        } = schedule;
         Self {
-            wait,
-            backoff,
-            last_fast,
-            last_awake,
+            schedule,
             scratch: Scratch::default(),
-        }
-    }
-
-    /// When the test is tried next.
-    pub fn schedule(&self) -> CalmSchedule {
-        CalmSchedule {
-            wait: self.wait,
-            backoff: self.backoff,
-            last_fast: self.last_fast,
-            last_awake: self.last_awake,
         }
     }
 
@@ -224,13 +200,13 @@ impl Calm {
     /// least `MIN_FAST` fast bodies, and one in `PAYS` awake bodies fast (a
     /// try reads every awake body; it can save at most the fast ones' hooks).
     pub fn wanted(&mut self) -> bool {
-        if self.last_fast < Self::MIN_FAST
-            || (self.last_fast as usize) * Self::PAYS < self.last_awake as usize
+        if self.schedule.last_fast < Self::MIN_FAST
+            || (self.schedule.last_fast as usize) * Self::PAYS < self.schedule.last_awake as usize
         {
             return false;
         }
-        if self.wait > 0 {
-            self.wait -= 1;
+        if self.schedule.wait > 0 {
+            self.schedule.wait -= 1;
             return false;
         }
         true
@@ -422,11 +398,11 @@ impl Calm {
             } else {
                 Self::MAX_WAIT
             };
-            self.backoff = (self.backoff * 2).clamp(1, most);
-            self.wait = self.backoff;
+            self.schedule.backoff = (self.schedule.backoff * 2).clamp(1, most);
+            self.schedule.wait = self.schedule.backoff;
         } else {
-            self.backoff = 0;
-            self.wait = 0;
+            self.schedule.backoff = 0;
+            self.schedule.wait = 0;
         }
     }
 }

@@ -71,7 +71,8 @@ impl<'a> FlagStep<'a> {
 #[derive(Clone, Debug, Default, PartialEq)]
 #[cfg_attr(
     feature = "serde-serialize",
-    derive(serde::Serialize, serde::Deserialize)
+    derive(serde::Serialize, serde::Deserialize),
+    serde(deny_unknown_fields)
 )]
 pub(crate) struct Carried {
     /// The colliders whose `MODIFY_SOLVER_CONTACTS` flag kimpact set at the
@@ -138,7 +139,7 @@ impl Prepare {
             hooked: self.flagged.clone(),
             marked_since_step: self.pending.clone(),
             woken: self.woken.clone(),
-            calm: self.calm.schedule(),
+            calm: self.calm.schedule,
         }
     }
 
@@ -231,8 +232,9 @@ impl Prepare {
                 }
                 fast
             };
-            self.calm.last_fast = u32::try_from(fast).unwrap_or(u32::MAX);
-            self.calm.last_awake = u32::try_from(islands.num_active_bodies()).unwrap_or(u32::MAX);
+            self.calm.schedule.last_fast = u32::try_from(fast).unwrap_or(u32::MAX);
+            self.calm.schedule.last_awake =
+                u32::try_from(islands.num_active_bodies()).unwrap_or(u32::MAX);
             let mut pending = std::mem::take(&mut self.pending);
             for &ch in &pending {
                 if let Some(handle) = colliders.get(ch).and_then(|co| co.parent()) {
