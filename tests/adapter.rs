@@ -17,6 +17,7 @@ mod d2 {
     include!("cases/user_worlds.rs");
     include!("cases/settings.rs");
     include!("cases/meshes.rs");
+    include!("cases/friction.rs");
 }
 
 mod d3 {
@@ -33,6 +34,7 @@ mod d3 {
     include!("cases/user_worlds.rs");
     include!("cases/settings.rs");
     include!("cases/meshes.rs");
+    include!("cases/friction.rs");
 }
 
 mod d2_f64 {
@@ -49,6 +51,7 @@ mod d2_f64 {
     include!("cases/user_worlds.rs");
     include!("cases/settings.rs");
     include!("cases/meshes.rs");
+    include!("cases/friction.rs");
     include!("cases/soak.rs");
     include!("cases/long.rs");
 
@@ -72,6 +75,7 @@ mod d3_f64 {
     include!("cases/user_worlds.rs");
     include!("cases/settings.rs");
     include!("cases/meshes.rs");
+    include!("cases/friction.rs");
     include!("cases/soak.rs");
     include!("cases/long.rs");
 

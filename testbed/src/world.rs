@@ -82,7 +82,8 @@ pub fn build(scene: &Scene, mode: Mode) -> Result<Built, BuildError> {
         .rotation(b.rotation[0] as Real)
         .linvel(vector(&b.velocity))
         .angvel(b.angular_velocity[0] as Real)
-        .ccd_enabled(ccd[i]);
+        .ccd_enabled(ccd[i])
+        .allow_fast_rotation(b.allow_fast_rotation);
         if !spin && !b.fixed {
             rb = rb.lock_rotations();
         }
@@ -110,6 +111,12 @@ pub fn build(scene: &Scene, mode: Mode) -> Result<Built, BuildError> {
         let material = match scene.effective_material(i) {
             Some(m) => Some(
                 Material::new(m.dissipation as Real, m.wall_dissipation as Real)
+                    .and_then(|k| {
+                        k.with_impact_friction(
+                            m.impact_friction as Real,
+                            m.tangential_restitution as Real,
+                        )
+                    })
                     .map_err(law_error(&m.name))?
                     .with_combine_rule(combine_rule(m.combine)),
             ),

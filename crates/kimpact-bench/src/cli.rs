@@ -90,6 +90,13 @@ pub enum Effect {
     /// Every ball marked with its own material (`Kimpact::mark_with`,
     /// `d̃ = d̃_w = 0`, so that only the path through materials differs).
     Materials,
+    /// The spin configuration with impact friction switched on: every ball
+    /// marked with a material of `d̃ = d̃_w = 0`, `μ = 0.5`, `β = 0`
+    /// (`Material::with_impact_friction`). Off, friction is the spin and
+    /// materials rows.
+    #[serde(rename = "impact_friction")]
+    #[value(name = "impact_friction")]
+    ImpactFriction,
 }
 
 /// `--hook-native` of this process, read by the scenes when they build

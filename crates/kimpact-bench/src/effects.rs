@@ -72,6 +72,7 @@ fn markdown(raw: &Raw, rows: &[&EffectRow]) -> String {
         c.memory_warmup.unwrap_or(c.warmup),
         h.wall_s
     );
+    s += "- impact_friction: the spin configuration with every ball marked with a material of μ = 0.5, β = 0 (impact friction on); off, it is the spin row (no material) and the materials row (a material without impact friction)\n";
     s += "- native and mode: median CPU time per step in the configuration's timing runs; ×native: their ratio; added: mode − native, what the mode adds to rapier's step; effect: added − the base's added in the same mode, what the effect costs kimpact; kimpact's allocs/step: attributed from their stacks (? when not)\n\n";
     s += "| prec | balls | effect | mode | native | mode | ×native | added | effect | kimpact's allocs/step | impacts/step | notes |\n";
     s += "|---|---:|---|---|---:|---:|---:|---:|---:|---:|---:|---|\n";

@@ -239,15 +239,24 @@ impl Bench {
             b.closed_box(Vector::splat(half), 1.0, material);
         }
         b.read_events = effect == Effect::Events;
-        b.own_material = (effect == Effect::Materials)
-            .then(|| k::Material::new(0.0, 0.0).expect("zero is a valid dissipation"));
+        let elastic = || k::Material::new(0.0, 0.0).expect("zero is a valid dissipation");
+        b.own_material = match effect {
+            Effect::Materials => Some(elastic()),
+            Effect::ImpactFriction => Some(
+                elastic()
+                    .with_impact_friction(0.5, 0.0)
+                    .expect("mu = 0.5 and beta = 0 are valid"),
+            ),
+            _ => None,
+        };
         let side = per_side(balls);
         let spacing = 2.0 * half / side as Real;
         assert!(spacing > 2.0 * r, "the gas grid must not overlap");
         // The spins from their own generator: the velocities stay the base's.
         let (mut rng, mut spins) = (Xoshiro256PlusPlus::seed_from_u64(42), Xoshiro256PlusPlus::seed_from_u64(7));
         for i in 0..balls {
-            let w = 6.0 * on(Effect::Spin) * spins.random_range(-1.0..1.0) as Real;
+            let spin = on(Effect::Spin) + on(Effect::ImpactFriction);
+            let w = 6.0 * spin * spins.random_range(-1.0..1.0) as Real;
             let body = RigidBodyBuilder::dynamic()
                 .translation(grid_point(i, side, spacing))
                 .linvel(random_vector(&mut rng, 3.0))

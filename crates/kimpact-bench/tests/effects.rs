@@ -20,6 +20,10 @@ fn the_effects_table_has_a_timed_row_per_effect_and_law_mode() {
     assert!(!out.join("effects-pit3d").exists(), "pit3d is no gas");
     let md = std::fs::read_to_string(folder.join("effects.md")).expect("effects.md");
     assert!(md.contains("| f32 | 12 | materials | impulse |"), "{md}");
+    assert!(
+        md.contains("| f32 | 12 | impact_friction | exact |"),
+        "{md}"
+    );
     let mut reader = csv::Reader::from_path(folder.join("effects.csv")).expect("effects.csv");
     let rows: Vec<EffectRow> = reader
         .deserialize()
@@ -34,6 +38,7 @@ fn the_effects_table_has_a_timed_row_per_effect_and_law_mode() {
         "walls",
         "events",
         "materials",
+        "impact_friction",
     ];
     assert_eq!(rows.len(), effects.len() * 3, "{rows:?}");
     for effect in effects {

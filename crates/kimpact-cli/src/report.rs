@@ -545,6 +545,16 @@ fn added(scene: &Scene, run: &RunOutput) -> Vec<String> {
             not_listed(Effect::Dissipation)
         ));
     }
+    let rough = scene.bodies.iter().any(|b| {
+        b.material
+            .is_some_and(|i| scene.materials[i].has_impact_friction())
+    });
+    if run.mode != kimpact::Mode::Native && rough && !scene.impact_friction_active() {
+        out.push(
+            "frictionless impacts (the materials' `impact_friction` off): \"friction\" is not in `effects`"
+                .to_owned(),
+        );
+    }
     out
 }
 

@@ -88,6 +88,12 @@ impl Checker<'_> {
                 "a fixed body does not move: CCD is for moving bodies",
             );
         }
+        if b.allow_fast_rotation == Some(true) && fixed {
+            return self.err(
+                &f("allow_fast_rotation"),
+                "a fixed body does not turn: `allow_fast_rotation` is for moving bodies",
+            );
+        }
         let material = match &b.material {
             Some(_) if !fixed && !law => {
                 return self.err(
@@ -113,6 +119,7 @@ impl Checker<'_> {
             friction,
             law,
             ccd: b.ccd,
+            allow_fast_rotation: b.allow_fast_rotation.unwrap_or(false),
             material,
         };
         Ok((body, b.restitution.is_some()))

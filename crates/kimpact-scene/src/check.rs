@@ -1,7 +1,7 @@
 //! The validator's checks of single values, vectors and the law's
 //! constants, each error naming its field.
 
-use kimpact::{Law, LawError, LawParams};
+use kimpact::{ImpactFriction, Law, LawError, LawParams};
 
 use crate::{FixedPartner, Precision, SceneError};
 
@@ -189,6 +189,59 @@ impl Checker<'_> {
                     )
                 } else {
                     self.err(&field, format!("must be finite and >= 0, got {written}"))
+                }
+            }
+            Err(e) => self.err(at, e.to_string()),
+        }
+    }
+
+    /// A material's impact friction as written at `at` (`materials.NAME`):
+    /// `(μ, β)`, μ defaulting to 0, β to 0 when μ is written and to
+    /// [`Material::NO_TANGENTIAL_RESTITUTION`] when neither is, checked as
+    /// the adapter of the scene's precision will (μ finite and ≥ 0, within
+    /// f32's range in an f32 scene; β in `[−1, 1]`), an error naming the
+    /// key (`materials.felt.impact_friction`).
+    ///
+    /// [`Material::NO_TANGENTIAL_RESTITUTION`]: crate::Material::NO_TANGENTIAL_RESTITUTION
+    pub(crate) fn impact_friction(
+        &self,
+        at: &str,
+        impact_friction: Option<f64>,
+        tangential_restitution: Option<f64>,
+    ) -> Check<(f64, f64)> {
+        let mu = impact_friction.unwrap_or(0.0);
+        let beta = match (impact_friction, tangential_restitution) {
+            (_, Some(beta)) => beta,
+            (Some(_), None) => 0.0,
+            (None, None) => crate::Material::NO_TANGENTIAL_RESTITUTION,
+        };
+        let result = match self.precision {
+            Precision::F64 => ImpactFriction::new(mu, beta).map(drop),
+            Precision::F32 => ImpactFriction::new(mu as f32, beta as f32).map(drop),
+        };
+        match result {
+            Ok(()) => Ok((mu, beta)),
+            Err(LawError::InvalidFriction {
+                parameter,
+                expected,
+                ..
+            }) => {
+                let field = format!("{at}.{parameter}");
+                let written = if parameter == "impact_friction" {
+                    mu
+                } else {
+                    beta
+                };
+                if parameter == "impact_friction" && written.is_finite() && written >= 0.0 {
+                    self.err(
+                        &field,
+                        format!(
+                            "{written:e} is beyond f32's range (at most {:e}): use a smaller value or precision \"f64\"",
+                            f32::MAX
+                        ),
+                    )
+                } else {
+                    self.err(&field, format!("must be {expected}, got {written}"))
                 }
             }
             Err(e) => self.err(at, e.to_string()),

@@ -21,7 +21,11 @@ impl Scene {
             Effect::Dissipation => {
                 law_dissipates(&self.law) || self.materials.iter().any(Material::dissipates)
             }
-            Effect::Friction => self.bodies.iter().any(|b| b.friction > 0.0),
+            Effect::Friction => self.bodies.iter().any(|b| {
+                b.friction > 0.0
+                    || b.material
+                        .is_some_and(|i| self.materials[i].has_impact_friction())
+            }),
             Effect::Spin => self.bodies.iter().any(|b| !b.fixed),
             Effect::FixedWalls => self.bodies.iter().any(|b| b.fixed),
         }
@@ -58,13 +62,40 @@ impl Scene {
         }
     }
 
+    /// Whether the law's impacts have friction: `friction` is active and a
+    /// body's material gives impact friction.
+    pub fn impact_friction_active(&self) -> bool {
+        self.active(Effect::Friction)
+            && self.bodies.iter().any(|b| {
+                b.material
+                    .is_some_and(|i| self.materials[i].has_impact_friction())
+            })
+    }
+
     /// Body `i`'s material as simulated: none unless `dissipation` is
-    /// active (the elastic law then governs every pair).
-    pub fn effective_material(&self, i: usize) -> Option<&Material> {
-        if !self.active(Effect::Dissipation) {
+    /// active or [impact friction](Self::impact_friction_active) is (the
+    /// elastic law, without impact friction, then governs every pair);
+    /// without `dissipation` its d̃ and wall d̃ are zero, without impact
+    /// friction it has none (μ = 0, β =
+    /// [`Material::NO_TANGENTIAL_RESTITUTION`]). With impact friction a
+    /// body whose material has none is marked with it too, so that a pair
+    /// combines the two materials' μ whether `dissipation` is on or not.
+    pub fn effective_material(&self, i: usize) -> Option<Material> {
+        let dissipation = self.active(Effect::Dissipation);
+        let friction = self.impact_friction_active();
+        if !dissipation && !friction {
             return None;
         }
-        self.materials.get(self.bodies[i].material?)
+        let mut m = self.materials.get(self.bodies[i].material?)?.clone();
+        if !dissipation {
+            m.dissipation = 0.0;
+            m.wall_dissipation = 0.0;
+        }
+        if !friction {
+            m.impact_friction = 0.0;
+            m.tangential_restitution = Material::NO_TANGENTIAL_RESTITUTION;
+        }
+        Some(m)
     }
 
     /// The speed no moving body can exceed (`None` for fixed bodies): the

@@ -123,6 +123,13 @@ pub struct MaterialFile {
     /// How two materials combine (default `"average"`).
     #[serde(default, deserialize_with = "by_name")]
     pub combine: Option<CombineRule>,
+    /// Coulomb's coefficient μ ≥ 0 at the impacts the law resolves (with
+    /// the `friction` effect; default 0, none).
+    pub impact_friction: Option<f64>,
+    /// The tangential restitution β in `[−1, 1]` at those impacts (default
+    /// 0 when `impact_friction` is written: a sticking impact stops the
+    /// contact points' tangential velocity).
+    pub tangential_restitution: Option<f64>,
 }
 
 /// One entry of `bodies` (or a generator's `body` template).
@@ -172,6 +179,10 @@ pub struct BodyFile {
     /// Continuous collision detection (default: none, or the command's
     /// choice with `auto_ccd`).
     pub ccd: Option<bool>,
+    /// rapier's `allow_fast_rotation`: the body may turn more than a
+    /// quarter turn per step (default false: rapier caps its angular
+    /// speed at π/4 per step).
+    pub allow_fast_rotation: Option<bool>,
     /// The name of one of the scene's `materials` (default: none, the
     /// scene's `law`).
     pub material: Option<String>,

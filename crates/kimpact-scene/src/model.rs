@@ -137,6 +137,9 @@ pub struct Body {
     pub law: bool,
     /// CCD as written (`None`: automatic).
     pub ccd: Option<bool>,
+    /// rapier's `allow_fast_rotation` as written (default false: rapier
+    /// caps the angular speed at π/4 per step).
+    pub allow_fast_rotation: bool,
     /// Index of its material in [`Scene::materials`] (`None`: the scene's
     /// law): a named one, or the one its written `restitution` stands for
     /// (see [`Material::named`]).
@@ -221,12 +224,28 @@ pub struct Material {
     /// Listed in the scene's `materials` (false: made from a body's
     /// `restitution`).
     pub named: bool,
+    /// Coulomb's coefficient μ ≥ 0 at the impact (0 when not written).
+    pub impact_friction: f64,
+    /// The tangential restitution β in `[−1, 1]`: as written; 0 when only
+    /// `impact_friction` is written; −1 (the adapter's material without
+    /// impact friction) when neither is.
+    pub tangential_restitution: f64,
 }
 
 impl Material {
+    /// β of a material that writes neither `impact_friction` nor
+    /// `tangential_restitution` (the adapter's material without impact
+    /// friction: the contact points' tangential velocity left as it is).
+    pub const NO_TANGENTIAL_RESTITUTION: f64 = -1.0;
+
     /// Whether the material dissipates (d̃ or the wall's d̃ positive).
     pub fn dissipates(&self) -> bool {
         self.dissipation > 0.0 || self.wall_dissipation > 0.0
+    }
+
+    /// Whether the material gives impact friction (μ positive).
+    pub fn has_impact_friction(&self) -> bool {
+        self.impact_friction > 0.0
     }
 }
 
@@ -237,7 +256,8 @@ pub enum Effect {
     Gravity,
     /// The law's dissipation (d̃ > 0 or wall d̃ > 0).
     Dissipation,
-    /// The bodies' friction coefficients.
+    /// The bodies' friction coefficients, and the impact friction of
+    /// their materials (which needs [`Effect::Spin`] too).
     Friction,
     /// Rotation of the bodies (rolling, spin); locked otherwise.
     Spin,

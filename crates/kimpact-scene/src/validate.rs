@@ -84,6 +84,8 @@ pub fn validate(raw: SceneFile, file: &str, name: &str) -> Result<Scene, SceneEr
                 fixed_partner: FixedPartner::default(),
             },
         )?;
+        let (impact_friction, tangential_restitution) =
+            c.impact_friction(&at, m.impact_friction, m.tangential_restitution)?;
         materials.push(Material {
             name: name.clone(),
             dissipation: k.dissipation,
@@ -91,6 +93,8 @@ pub fn validate(raw: SceneFile, file: &str, name: &str) -> Result<Scene, SceneEr
             combine: m.combine.unwrap_or_default(),
             restitution: k.restitution,
             named: true,
+            impact_friction,
+            tangential_restitution,
         });
     }
     // A BTreeMap iterates in name order: the checker's binary search holds.
@@ -144,6 +148,12 @@ pub fn validate(raw: SceneFile, file: &str, name: &str) -> Result<Scene, SceneEr
             .iter()
             .filter_map(|b| b.material)
             .any(|i| materials[i].dissipates());
+    // The first material a body uses that gives impact friction.
+    let rough = bodies
+        .iter()
+        .filter_map(|b| b.material)
+        .find(|i| materials[*i].has_impact_friction())
+        .map(|i| &materials[i].name);
     let effects = match &raw.effects {
         Some(list) => {
             let mut set = BTreeSet::new();
@@ -190,6 +200,20 @@ pub fn validate(raw: SceneFile, file: &str, name: &str) -> Result<Scene, SceneEr
                     "{file}: friction: ignored (zero friction), \"friction\" is not in `effects`"
                 ));
             }
+            if let Some(name) = rough {
+                if !set.contains(&Effect::Friction) {
+                    warnings.push(format!(
+                        "{file}: materials.{name}.impact_friction: ignored (frictionless impacts), \"friction\" is not in `effects`"
+                    ));
+                } else if !set.contains(&Effect::Spin) {
+                    return c.err(
+                        "effects",
+                        format!(
+                            "materials.{name} gives impact friction and \"friction\" is listed, but \"spin\" is not: impact friction turns the bodies, so \"spin\" must be on too (list it, or drop \"friction\")"
+                        ),
+                    );
+                }
+            }
             set
         }
         None => {
@@ -200,7 +224,7 @@ pub fn validate(raw: SceneFile, file: &str, name: &str) -> Result<Scene, SceneEr
             if dissipates {
                 set.insert(Effect::Dissipation);
             }
-            if bodies.iter().any(|b| b.friction > 0.0) {
+            if bodies.iter().any(|b| b.friction > 0.0) || rough.is_some() {
                 set.insert(Effect::Friction);
             }
             if bodies.iter().any(|b| b.fixed) {
@@ -377,6 +401,8 @@ fn restitution_materials(
             combine: CombineRule::Average,
             restitution: k.restitution,
             named: false,
+            impact_friction: 0.0,
+            tangential_restitution: Material::NO_TANGENTIAL_RESTITUTION,
         });
         b.material = Some(materials.len() - 1);
     }

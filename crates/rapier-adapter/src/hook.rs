@@ -53,6 +53,12 @@ impl std::fmt::Debug for StepHooks<'_> {
 /// still takes a meeting as in this step (rounding at the step's end).
 const GRAZE_HORIZON: Real = 1e-3;
 
+/// The friction coefficient of a manifold whose fresh impact carries the
+/// law's tangential part (its slip is the solver contacts' target): large
+/// enough that rapier's Coulomb bound never cuts the impulse that reaches
+/// the target, small enough that `friction × impulse` stays finite.
+const UNBOUNDED_FRICTION: Real = 1e6;
+
 impl StepHooks<'_> {
     fn user_flagged(&self, colliders: &ColliderSet, c: ColliderHandle) -> bool {
         let (index, _) = c.into_raw_parts();
@@ -215,6 +221,11 @@ impl StepHooks<'_> {
         if self.mode != Mode::Restitution {
             return;
         }
+        if !self.marks.friction(c1, c2).is_frictionless() {
+            // Impact friction turns the balls: the rigid law at the contact.
+            self.respond_rigid(context, &frame);
+            return;
+        }
         let tangential = (w + n * approach).length();
         let law = self.marks.law(self.law, c1, c2);
         match law.restitution(b1.mass, b2.mass, approach, tangential) {
@@ -225,9 +236,6 @@ impl StepHooks<'_> {
                 // an elastic gas lost its energy faster than native rapier);
                 // it is not a new impact, and not reported.
                 *rigid.restitution = r.coefficient;
-                if fresh {
-                    self.set_impact_friction(rigid, c1, c2);
-                }
                 // A fresh one is kept for the report if the bodies can meet
                 // within the step; reported if rapier's contact then carried
                 // an impulse (a speculative contact further away gets none,
@@ -286,15 +294,16 @@ impl StepHooks<'_> {
             });
         let point = sum / count as Real;
         let law = self.marks.law(self.law, c1, c2);
-        let impact = crate::rigid_view::resolve(&law, bodies, (rb1, &b1), (rb2, &b2), point, n);
-        let Some(impact) = impact.filter(|i| i.approach_speed > frame.rest_speed) else {
+        let friction = self.marks.friction(c1, c2);
+        let impact =
+            crate::rigid_view::resolve(&law, &friction, bodies, (rb1, &b1), (rb2, &b2), point, n);
+        let Some((impact, slip)) = impact.filter(|(i, _)| i.approach_speed > frame.rest_speed)
+        else {
             *rigid.restitution = 0.0;
             return;
         };
         *rigid.restitution = impact.restitution;
-        if fresh {
-            self.set_impact_friction(rigid, c1, c2);
-        }
+        let rough = fresh && !friction.is_frictionless();
         // rapier's solver bounces each solver contact of a manifold by the
         // restitution, one after another: with several (a bar landing on
         // its edge, a box on its face) their impulses together differ from
@@ -315,6 +324,16 @@ impl StepHooks<'_> {
             first.dist = gap * inverse;
             rigid.solver_contacts.truncate(1);
         }
+        if rough {
+            // The law's tangential part as rapier's friction: the solver
+            // drives the contact's tangential slip to `tangent_velocity`
+            // within `friction` times the normal impulse, so a bound it never
+            // reaches leaves the slip the law gives (sticking or sliding).
+            *rigid.friction = UNBOUNDED_FRICTION;
+            for c in rigid.solver_contacts.iter_mut() {
+                c.tangent_velocity = slip;
+            }
+        }
         let reach = (impact.approach_speed + frame.gravity_speed) * frame.dt;
         if fresh && dist <= reach * 1.01 + Real::EPSILON {
             self.candidates.push(Candidate {
@@ -328,23 +347,6 @@ impl StepHooks<'_> {
                 by_replay: false,
                 rigid: Some(impact),
             });
-        }
-    }
-
-    /// A fresh impact of colliders `c1` and `c2` bounced by rapier's solver:
-    /// with impact friction, the manifold's friction coefficient is the
-    /// pair's `μ` (rapier's friction then stops the contact points'
-    /// tangential velocity within `μ` times the normal impulse: the
-    /// tangential restitution `β` is not matched, see docs/friction.md).
-    fn set_impact_friction(
-        &self,
-        rigid: &mut ModifiableManifold,
-        c1: ColliderHandle,
-        c2: ColliderHandle,
-    ) {
-        let friction = self.marks.friction(c1, c2);
-        if !friction.is_frictionless() {
-            *rigid.friction = friction.impact_friction();
         }
     }
 

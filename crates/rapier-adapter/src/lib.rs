@@ -41,7 +41,7 @@ pub extern crate rapier_f32 as rapier;
 #[cfg(feature = "f64")]
 pub extern crate rapier_f64 as rapier;
 
-pub use kimpact::{FixedPartner, Law, LawError, LawParams, Precision};
+pub use kimpact::{FixedPartner, ImpactFriction, Law, LawError, LawParams, Precision};
 
 // The module map, from the bottom up (no module imports one above it):
 // math, mode, frame, config     plain types (Mode and Stats from the core) and the step's constants

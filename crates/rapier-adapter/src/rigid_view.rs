@@ -3,7 +3,7 @@
 //! marked collider of any shape on a dynamic body that restitution mode
 //! governs at the manifold's contact ([`kimpact::Law::resolve_rigid`]).
 
-use kimpact::{Contact, Law, Mass, RigidImpact};
+use kimpact::{Contact, ImpactFriction, Law, Mass, RigidImpact};
 
 use crate::body_view::LawBody;
 use crate::math::{DIM, Real, Vector, to_law};
@@ -71,22 +71,42 @@ fn rigid(
 
 /// The law's impact of the pair of bodies `p1`, `p2` (as the law sees
 /// them: `b1`, `b2`) touching at `point` with unit normal `normal` from
-/// the first towards the second, at the velocities they have now; `None`
-/// when the contact points do not approach or the data cannot enter the
-/// law.
+/// the first towards the second, at the velocities they have now, with
+/// impact friction `friction`; and the tangential velocity of the second
+/// contact point relative to the first after it (what rapier's solver
+/// contact takes as its `tangent_velocity`). `None` when the contact points
+/// do not approach or the data cannot enter the law.
 pub(crate) fn resolve(
     law: &Law<Real>,
+    friction: &ImpactFriction<Real>,
     bodies: &RigidBodySet,
     (p1, b1): (Option<RigidBodyHandle>, &LawBody),
     (p2, b2): (Option<RigidBodyHandle>, &LawBody),
     point: Vector,
     normal: Vector,
-) -> Option<RigidImpact<Real, DIM>> {
+) -> Option<(RigidImpact<Real, DIM>, Vector)> {
     let (a, centre_a) = rigid(bodies, p1, b1)?;
     let (b, centre_b) = rigid(bodies, p2, b2)?;
     // A body without a centre of mass (a collider without a body) is
     // immovable and still: its arm changes nothing.
     let arm = |centre: Option<Vector>| to_law(point - centre.unwrap_or(point));
-    let contact = Contact::with_unit_normal(arm(centre_a), arm(centre_b), to_law(normal)).ok()?;
-    law.resolve_rigid(&a, &b, &contact)
+    let (arm_a, arm_b) = (arm(centre_a), arm(centre_b));
+    let contact = Contact::with_unit_normal(arm_a, arm_b, to_law(normal)).ok()?;
+    let impact = law.resolve_rigid_with_friction(&a, &b, &contact, friction)?;
+    if friction.is_frictionless() {
+        return Some((impact, Vector::ZERO));
+    }
+    let after = |body: &LawRigid, dv, dw| {
+        let (v, w) = (body.velocity() + dv, *body.angular_velocity() + dw);
+        match body.mass() {
+            Mass::Finite(m) => LawRigid::new(m, v, w, *body.inverse_inertia()).ok(),
+            Mass::Infinite => LawRigid::immovable(v, w).ok(),
+        }
+    };
+    let a1 = after(&a, impact.delta_v_a, impact.delta_omega_a)?;
+    let b1 = after(&b, impact.delta_v_b, impact.delta_omega_b)?;
+    let slip = b1.point_velocity(&arm_b) - a1.point_velocity(&arm_a);
+    let n = to_law(normal);
+    let tangential = slip - n * slip.dot(&n);
+    Some((impact, crate::math::from_law(&tangential)))
 }

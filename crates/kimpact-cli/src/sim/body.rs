@@ -71,7 +71,8 @@ pub(super) fn run(
             .translation(vector(&b.position))
             .linvel(vector(&b.velocity))
             .ccd_enabled(ccd[i])
-            .soft_ccd_prediction(soft_ccd[i] as Real);
+            .soft_ccd_prediction(soft_ccd[i] as Real)
+            .allow_fast_rotation(b.allow_fast_rotation);
         if !spin && !b.fixed {
             rb = rb.lock_rotations();
             locked_rotations += 1;
@@ -90,8 +91,15 @@ pub(super) fn run(
         // Only bodies that can meet the law are marked (never in native
         // mode, where kimpact does nothing), with their material if they
         // have one; a fixed body is marked only to carry its material.
+        // Impact friction (μ = 0, β = −1 when off) is the adapter's too.
         let material = scene.effective_material(i).map(|m| {
             k::Material::new(m.dissipation as Real, m.wall_dissipation as Real)
+                .and_then(|k| {
+                    k.with_impact_friction(
+                        m.impact_friction as Real,
+                        m.tangential_restitution as Real,
+                    )
+                })
                 .expect("the scene's materials were checked in its precision")
                 .with_combine_rule(combine_rule(m.combine))
         });
