@@ -7,7 +7,6 @@ use kimpact_harness::{
     Backend, DT, ErrorRow, GasSeries, HarnessError, Method, V, cradle_setup, gas_series, gas_setup,
     ks, ks_maxwell, short_run, two_ball_setup, z_setup,
 };
-use serde::Serialize;
 
 use crate::format::{e, ms, pct};
 use crate::z::{ZResult, z_run};
@@ -15,8 +14,7 @@ use crate::z::{ZResult, z_run};
 /// A line of `accuracy.csv`: one value of a series or of the cost sweep:
 /// its section (`gas`, `cooling`, `cost`), build, simulator, time step
 /// divisor, x (time, or the time step), quantity and value.
-#[derive(Serialize)]
-pub struct CsvRow(
+pub type CsvRow = (
     &'static str,
     &'static str,
     &'static str,
@@ -90,7 +88,7 @@ impl<'a, const D: usize> Build<'a, D> {
     ) {
         self.out
             .csv
-            .push(CsvRow(section, self.b.label, m.name(), div, x, q, v));
+            .push((section, self.b.label, m.name(), div, x, q, v));
     }
 
     /// A point of the panel `title` (with the build's label) of the plot.
