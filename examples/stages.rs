@@ -45,7 +45,7 @@ fn main() {
 
     for _ in 0..120 {
         // Stage 1: hook flags, starts, impulse mode's pass.
-        kimpact.before_step(
+        let prepared = kimpact.before_step(
             gravity,
             &integration_parameters,
             &islands,
@@ -53,9 +53,6 @@ fn main() {
             &narrow_phase,
             &mut bodies,
             &mut colliders,
-            &impulse_joints,
-            &multibody_joints,
-            &user_hooks,
         );
         // Stage 2: rapier's own step, with kimpact's hooks (yours chained).
         pipeline.step(
@@ -70,21 +67,20 @@ fn main() {
             &mut multibody_joints,
             &mut soft_bodies,
             &mut ccd_solver,
-            &kimpact.hooks(&user_hooks),
+            &kimpact.hooks(&prepared, &user_hooks),
             &user_events,
         );
         // Stage 3: exact mode's replay, the step's impact events.
-        kimpact
-            .after_step(
-                &narrow_phase,
-                &broad_phase,
-                &mut bodies,
-                &colliders,
-                &impulse_joints,
-                &multibody_joints,
-                &user_hooks,
-            )
-            .expect("before_step ran just above");
+        kimpact.after_step(
+            prepared,
+            &narrow_phase,
+            &broad_phase,
+            &mut bodies,
+            &colliders,
+            &impulse_joints,
+            &multibody_joints,
+            &user_hooks,
+        );
         for e in kimpact.events() {
             println!(
                 "impact at {:+.4} s: {:?} -> {:?}",

@@ -4,7 +4,7 @@
 use bevy::prelude::*;
 
 #[cfg(doc)]
-use crate::kimpact_rapier::Config;
+use crate::kimpact_rapier::ResolverConfig;
 use crate::kimpact_rapier::math::Real;
 use crate::kimpact_rapier::{ImpactEvent, LawParams, Material, Mode};
 #[cfg(doc)]
@@ -12,7 +12,7 @@ use crate::state::KimpactState;
 
 /// Marks the collider of its entity for kimpact: the collider's contacts with
 /// other marked colliders (and with fixed and kinematic bodies, see
-/// [`Config::fixed_partners`]) follow the law. Put it beside bevy_rapier's
+/// [`ResolverConfig::fixed_partners`]) follow the law. Put it beside bevy_rapier's
 /// `Collider`; removing it, or despawning the entity, unmarks the collider.
 ///
 /// `KimpactCollider::default()` follows the law of [`KimpactSettings`];

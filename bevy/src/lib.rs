@@ -60,7 +60,7 @@
 //! `RapierContextSimulation::step_stats` describe the frame's last step (each
 //! step is its own `step_simulation` call); the [`ImpactMessage`]s cover
 //! every step.
-#![warn(missing_docs)]
+#![warn(missing_docs, missing_debug_implementations)]
 #![forbid(unsafe_code)]
 
 #[cfg(not(any(feature = "dim2", feature = "dim3")))]
@@ -84,7 +84,9 @@ pub use kimpact2d as kimpact_rapier;
 #[cfg(feature = "dim3")]
 pub use kimpact3d as kimpact_rapier;
 
-pub use kimpact_rapier::{Config, FixedPartner, ImpactEvent, LawParams, Material, Mode, Stats};
+pub use kimpact_rapier::{
+    FixedPartner, ImpactEvent, LawParams, Material, Mode, ResolverConfig, Stats,
+};
 
 mod components;
 mod hooks;

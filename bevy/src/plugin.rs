@@ -11,7 +11,7 @@ use bevy::prelude::*;
 use crate::bevy_rapier::pipeline::{BevyPhysicsHooks, CollisionEvent};
 use crate::bevy_rapier::plugin::{PhysicsSet, RapierPhysicsPlugin, systems};
 use crate::components::{ImpactMessage, KimpactSettings};
-use crate::kimpact_rapier::{Config, Kimpact, Law, Mode};
+use crate::kimpact_rapier::{Kimpact, Law, Mode, ResolverConfig};
 use crate::state::KimpactState;
 use crate::systems::{mirror_quarantine, prepare, step, unmark_removed};
 
@@ -92,7 +92,7 @@ type ConfigureRapier<H> =
 /// ```
 pub struct KimpactPlugin<H = ()> {
     schedule: Interned<dyn ScheduleLabel>,
-    config: Config,
+    config: ResolverConfig,
     rapier: Option<ConfigureRapier<H>>,
     hooks: PhantomData<fn() -> H>,
 }
@@ -112,7 +112,7 @@ impl Default for KimpactPlugin {
     fn default() -> Self {
         Self {
             schedule: PostUpdate.intern(),
-            config: Config::default(),
+            config: ResolverConfig::default(),
             rapier: None,
             hooks: PhantomData,
         }
@@ -172,7 +172,7 @@ where
     /// kimpact's tuning of the hand-over to rapier (rest speed, fixed
     /// partners, event cap); the default suits most scenes. An invalid
     /// configuration is logged and the default used.
-    pub fn with_config(mut self, config: Config) -> Self {
+    pub fn with_config(mut self, config: ResolverConfig) -> Self {
         self.config = config;
         self
     }

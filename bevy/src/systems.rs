@@ -369,7 +369,7 @@ impl Frame<'_, '_, '_> {
         let mut parameters = self.simulation.integration_parameters;
         parameters.dt = dt;
         let simulation = &mut *self.simulation;
-        state.kimpact.before_step(
+        let prepared = state.kimpact.before_step(
             self.config.gravity,
             &parameters,
             &simulation.islands,
@@ -377,9 +377,6 @@ impl Frame<'_, '_, '_> {
             &simulation.narrow_phase,
             &mut self.bodies.bodies,
             &mut self.colliders.colliders,
-            &self.joints.impulse_joints,
-            &self.joints.multibody_joints,
-            user,
         );
         // One step of `dt` (`dt / 1` is `dt`, bit for bit).
         simulation.step_simulation(
@@ -390,14 +387,15 @@ impl Frame<'_, '_, '_> {
             SimulationMode::Full,
             TimestepMode::Fixed { dt, substeps: 1 },
             Some((&*self.collision_events, &*self.contact_force_events)),
-            &state.kimpact.hooks(user),
+            &state.kimpact.hooks(&prepared, user),
             self.time,
             self.to_render,
             None,
         );
         // Each step_simulation keeps only its own events: send them now.
         simulation.send_bevy_events(self.collision_events, self.contact_force_events);
-        if let Err(e) = state.kimpact.after_step(
+        state.kimpact.after_step(
+            prepared,
             &simulation.narrow_phase,
             &simulation.broad_phase,
             &mut self.bodies.bodies,
@@ -405,9 +403,7 @@ impl Frame<'_, '_, '_> {
             &self.joints.impulse_joints,
             &self.joints.multibody_joints,
             user,
-        ) {
-            log::debug!("kimpact: {e}");
-        }
+        );
         let colliders = &*self.colliders;
         let bodies = &*self.bodies;
         let entity = |h| colliders.collider_entity(h);

@@ -7,7 +7,7 @@
 use kimpact_scene::{CombineRule, Effect, JointEnd, JointKind, Scene, Shape};
 use kimpact2d::math::{Real, Vector};
 use kimpact2d::rapier::prelude::*;
-use kimpact2d::{Config, Kimpact, Law, Material, Mode};
+use kimpact2d::{Kimpact, Law, Material, Mode, ResolverConfig};
 
 /// Why a scene cannot be opened in the 2D testbed.
 #[derive(Debug, thiserror::Error)]
@@ -62,9 +62,9 @@ pub fn build(scene: &Scene, mode: Mode) -> Result<Built, BuildError> {
     };
     world.integration_parameters.dt = scene.dt as Real;
     let law = Law::new(scene.effective_law().map(|x| x as Real)).map_err(law_error("law"))?;
-    let config = Config {
+    let config = ResolverConfig {
         fixed_partners: scene.active(Effect::FixedWalls),
-        ..Config::default()
+        ..ResolverConfig::default()
     };
     let mut kimpact = Kimpact::with_config(law, mode, config)
         .expect("the default configuration with fixed_partners set is valid");

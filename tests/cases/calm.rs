@@ -35,7 +35,7 @@ struct CalmOutcome {
 /// elastic law in `mode`, a rest speed of 0.1, the test on or off.
 fn calm_world(mode: Mode, calm: bool) -> TestWorld {
     let mut w = TestWorld::new(mode, 0.0, Vector::ZERO);
-    let config = k::Config {
+    let config = k::ResolverConfig {
         rest_speed: Some(0.1),
         calm_neighbourhoods: calm,
         ..Default::default()

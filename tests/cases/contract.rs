@@ -44,7 +44,7 @@ fn stage_scene(mode: Mode) -> (TestWorld, Vec<RigidBodyHandle>) {
 /// Step `w` through the three public stages around rapier's own step.
 fn step_by_stages(w: &mut TestWorld) {
     let world = &mut w.world;
-    w.kimpact.before_step(
+    let prepared = w.kimpact.before_step(
         world.gravity,
         &world.integration_parameters,
         &world.islands,
@@ -52,9 +52,6 @@ fn step_by_stages(w: &mut TestWorld) {
         &world.narrow_phase,
         &mut world.bodies,
         &mut world.colliders,
-        &world.impulse_joints,
-        &world.multibody_joints,
-        &(),
     );
     world.physics_pipeline.step(
         world.gravity,
@@ -68,20 +65,19 @@ fn step_by_stages(w: &mut TestWorld) {
         &mut world.multibody_joints,
         &mut world.soft_bodies,
         &mut world.ccd_solver,
-        &w.kimpact.hooks(&()),
+        &w.kimpact.hooks(&prepared, &()),
         &(),
     );
-    w.kimpact
-        .after_step(
-            &world.narrow_phase,
-            &world.broad_phase,
-            &mut world.bodies,
-            &world.colliders,
-            &world.impulse_joints,
-            &world.multibody_joints,
-            &(),
-        )
-        .unwrap();
+    w.kimpact.after_step(
+        prepared,
+        &world.narrow_phase,
+        &world.broad_phase,
+        &mut world.bodies,
+        &world.colliders,
+        &world.impulse_joints,
+        &world.multibody_joints,
+        &(),
+    );
 }
 
 #[test]
@@ -160,25 +156,6 @@ fn switching_from_native_between_steps_takes_the_next_impacts() {
     }
 }
 
-#[test]
-fn after_step_without_before_step_is_an_error_and_changes_nothing() {
-    let (mut w, balls) = stage_scene(Mode::Exact);
-    w.step();
-    let before = w.bits(&balls);
-    let world = &mut w.world;
-    let result = w.kimpact.after_step(
-        &world.narrow_phase,
-        &world.broad_phase,
-        &mut world.bodies,
-        &world.colliders,
-        &world.impulse_joints,
-        &world.multibody_joints,
-        &(),
-    );
-    assert_eq!(result, Err(k::StageError::NotPrepared));
-    assert_eq!(w.bits(&balls), before);
-}
-
 /// Two balls of equal mass with restitution 0 (rapier alone makes their
 /// head-on impact plastic: 0.5/0.5), the first marked through `mark_first`.
 fn plastic_pair(mode: Mode, mark_first: impl FnOnce(&mut TestWorld, ColliderHandle)) -> (Vector, Vector) {
@@ -252,38 +229,38 @@ fn handles_not_in_the_collider_set_change_nothing() {
 
 #[test]
 fn invalid_settings_are_rejected_and_the_old_ones_kept() {
-    use k::{Config, ConfigError, Kimpact};
+    use k::{ResolverConfig, ResolverConfigError, Kimpact};
     for bad in [Real::NAN, Real::INFINITY, -1.0] {
-        let config = Config {
+        let config = ResolverConfig {
             rest_speed: Some(bad),
-            ..Config::default()
+            ..ResolverConfig::default()
         };
         assert!(matches!(
             Kimpact::with_config(Law::elastic(), Mode::Exact, config),
-            Err(ConfigError::RestSpeed(_))
+            Err(ResolverConfigError::RestSpeed(_))
         ));
         let mut kimpact = Kimpact::new(Law::elastic(), Mode::Exact);
-        assert!(matches!(kimpact.set_config(config), Err(ConfigError::RestSpeed(_))));
-        assert_eq!(*kimpact.config(), Config::default());
-        let message = ConfigError::RestSpeed(bad).to_string();
+        assert!(matches!(kimpact.set_config(config), Err(ResolverConfigError::RestSpeed(_))));
+        assert_eq!(*kimpact.config(), ResolverConfig::default());
+        let message = ResolverConfigError::RestSpeed(bad).to_string();
         assert!(message.contains("rest_speed"), "{message}");
     }
-    let zero = Config {
+    let zero = ResolverConfig {
         max_events_per_step: 0,
-        ..Config::default()
+        ..ResolverConfig::default()
     };
     assert_eq!(
         Kimpact::with_config(Law::elastic(), Mode::Exact, zero).err(),
-        Some(ConfigError::MaxEventsPerStep)
+        Some(ResolverConfigError::MaxEventsPerStep)
     );
     let mut kimpact = Kimpact::new(Law::elastic(), Mode::Exact);
-    let fine = Config {
+    let fine = ResolverConfig {
         rest_speed: Some(0.0),
         max_events_per_step: 1,
-        ..Config::default()
+        ..ResolverConfig::default()
     };
     kimpact.set_config(fine).unwrap();
-    assert_eq!(kimpact.set_config(zero), Err(ConfigError::MaxEventsPerStep));
+    assert_eq!(kimpact.set_config(zero), Err(ResolverConfigError::MaxEventsPerStep));
     assert_eq!(*kimpact.config(), fine);
 }
 
@@ -336,9 +313,9 @@ fn a_pile_at_rest_still_sleeps() {
 /// change after 600 steps and whether any ball fell asleep.
 fn sleepy_gas(keep_moving_awake: bool) -> (f64, bool, u64) {
     let mut w = TestWorld::new(Mode::Exact, 0.0, Vector::ZERO);
-    let config = k::Config {
+    let config = k::ResolverConfig {
         keep_moving_awake,
-        ..k::Config::default()
+        ..k::ResolverConfig::default()
     };
     w.kimpact.set_config(config).unwrap();
     w.closed_box(5.0, 0.5);
@@ -522,9 +499,9 @@ fn mode_stats_and_precision_are_the_core_s_types() {
     assert_eq!("impulse".parse::<k::Mode>(), Ok(mode));
 }
 
-/// `Kimpact` and the hooks of a step print the user's state (law, mode,
-/// configuration, how many colliders are marked, the totals), not a
-/// step's scratch.
+/// `Kimpact` prints the user's state (law, mode, configuration, how many
+/// colliders are marked, the totals), not a step's scratch; a prepared
+/// step and its hooks print the step's mode.
 #[test]
 fn the_resolver_and_its_hooks_are_debug() {
     let mut w = TestWorld::new(Mode::Impulse, 0.0, Vector::ZERO);
@@ -532,9 +509,21 @@ fn the_resolver_and_its_hooks_are_debug() {
     w.ball(Vector::X * 3.0, Vector::ZERO, 0.5, 1.0);
     w.step();
     let shown = format!("{:?}", w.kimpact);
-    for part in ["Kimpact", "mode: Impulse", "marked: 2", "steps: 1", "config: Config"] {
+    for part in ["Kimpact", "mode: Impulse", "marked: 2", "steps: 1", "config: ResolverConfig"] {
         assert!(shown.contains(part), "{part:?} not in {shown}");
     }
-    let hooks = format!("{:?}", w.kimpact.hooks(&()));
-    assert!(hooks.starts_with("StepHooks") && hooks.contains("mode: Native"), "{hooks}");
+    let world = &mut w.world;
+    let prepared = w.kimpact.before_step(
+        world.gravity,
+        &world.integration_parameters,
+        &world.islands,
+        &world.broad_phase,
+        &world.narrow_phase,
+        &mut world.bodies,
+        &mut world.colliders,
+    );
+    let step = format!("{prepared:?}");
+    assert!(step.starts_with("PreparedStep") && step.contains("mode: Impulse"), "{step}");
+    let hooks = format!("{:?}", w.kimpact.hooks(&prepared, &()));
+    assert!(hooks.starts_with("StepHooks") && hooks.contains("mode: Impulse"), "{hooks}");
 }

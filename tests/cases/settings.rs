@@ -126,7 +126,7 @@ fn settings_restitution_and_its_combine_rule_are_ignored_by_the_law() {
     }
 }
 
-/// Rows kinematic bodies and `Config::fixed_partners`: a kinematic body
+/// Rows kinematic bodies and `ResolverConfig::fixed_partners`: a kinematic body
 /// is an immovable partner moving at its velocity. A marked ball moving
 /// towards a kinematic paddle, or at rest and struck by it, meets it by the
 /// law in every law mode (the elastic law mirrors the ball's velocity in
@@ -139,9 +139,9 @@ fn settings_kinematic_bodies_are_immovable_partners() {
         for ball_speed in [-0.5, 0.0] {
             for mode in LAW_MODES {
                 let mut w = TestWorld::new(mode, 0.0, Vector::ZERO);
-                let config = k::Config {
+                let config = k::ResolverConfig {
                     fixed_partners,
-                    ..k::Config::default()
+                    ..k::ResolverConfig::default()
                 };
                 w.kimpact.set_config(config).unwrap();
                 let paddle = w.world.insert_body(

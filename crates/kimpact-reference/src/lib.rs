@@ -70,7 +70,7 @@
 //! assert!((sim.balls()[0].velocity.x + 1.0).abs() < 1e-12);
 //! # Ok::<(), kimpact_reference::ReferenceError>(())
 //! ```
-#![warn(missing_docs)]
+#![warn(missing_docs, missing_debug_implementations)]
 #![forbid(unsafe_code)]
 
 // The README's examples are tests too (it is the crate's page on crates.io).

@@ -86,7 +86,7 @@
 //! assert!(lost >= 0.0 && (lost - impact.dissipated).abs() < 1e-12);
 //! # Ok::<(), kimpact::LawError>(())
 //! ```
-#![warn(missing_docs)]
+#![warn(missing_docs, missing_debug_implementations)]
 #![forbid(unsafe_code)]
 
 // The README's examples are tests too (it is the crate's page on crates.io).
@@ -103,6 +103,7 @@ mod law;
 mod mode;
 mod num;
 mod params;
+mod precision;
 pub mod prelude;
 mod rigid;
 mod rigid_law;
@@ -114,8 +115,9 @@ pub use error::{LawError, Which};
 pub use friction::ImpactFriction;
 pub use impact::{Energies, Impact, Restitution};
 pub use law::{CLAMP_TOLERANCE, Law};
-pub use mode::{Mode, ParseModeError, ParsePrecisionError, Precision};
+pub use mode::{Mode, ParseModeError};
 pub use params::{FixedPartner, LawParams, ParseFixedPartnerError};
+pub use precision::{ParsePrecisionError, Precision};
 pub use rigid::{Angular, Contact, InverseInertia, RigidBody};
 pub use rigid_law::{FrictionRegime, RigidImpact};
 pub use stats::Stats;

@@ -1,8 +1,7 @@
-//! The names an engine integration and its users share: the accuracy
-//! ladder ([`Mode`]) and the floating-point precision of a build
-//! ([`Precision`]). They are defined once here, with no engine in sight, so
-//! that one value crosses from one integration crate, or from a scene file,
-//! to another without conversion.
+//! The accuracy ladder ([`Mode`]) an engine integration and its users
+//! share. It is defined once here, with no engine in sight, so that one
+//! value crosses from one integration crate, or from a scene file, to
+//! another without conversion.
 
 use core::fmt;
 use core::str::FromStr;
@@ -29,10 +28,10 @@ pub enum Mode {
     /// simultaneous (Newton's cradle). A body that moves more than a
     /// quarter of its size per step (which could sink into a partner by
     /// more than a radius, cross it, or leave its box between two of
-    /// the engine's contacts) is the replay's instead: its pairs are resolved
-    /// after the step as in `Impulse`.
+    /// the engine's contacts) is the integration's instead: its pairs are
+    /// resolved after the step as in `Impulse`.
     Restitution,
-    /// The replay of `Exact` on the pairs the engine's contacts hold (and those
+    /// `Exact`'s resolution on the pairs the engine's contacts hold (and those
     /// of bodies that move more than half their size per step): the law at
     /// each impact's time of impact, in time order, chains through touching
     /// bodies, positions written back. A pair that the engine's contacts did
@@ -87,54 +86,6 @@ impl FromStr for Mode {
     }
 }
 
-/// The floating-point precision of a build: the scalar an engine
-/// integration is compiled for. Its names are `f32` and `f64` in
-/// [`Display`](fmt::Display), [`FromStr`] and serde.
-#[derive(Copy, Clone, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
-pub enum Precision {
-    /// Single precision, `f32`.
-    #[default]
-    F32,
-    /// Double precision, `f64`.
-    F64,
-}
-
-impl Precision {
-    /// Both precisions, f32 first.
-    pub const ALL: [Precision; 2] = [Precision::F32, Precision::F64];
-
-    /// `"f32"` or `"f64"`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Precision::F32 => "f32",
-            Precision::F64 => "f64",
-        }
-    }
-}
-
-impl fmt::Display for Precision {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-/// An unknown precision name (the name given).
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("unknown precision {0:?}: expected \"f32\" or \"f64\"")]
-pub struct ParsePrecisionError(pub String);
-
-impl FromStr for Precision {
-    type Err = ParsePrecisionError;
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        Precision::ALL
-            .into_iter()
-            .find(|p| p.name() == s)
-            .ok_or_else(|| ParsePrecisionError(s.to_owned()))
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -144,21 +95,11 @@ mod tests {
         for mode in Mode::ALL {
             assert_eq!(mode.to_string().parse::<Mode>(), Ok(mode));
         }
-        for p in Precision::ALL {
-            assert_eq!(p.to_string().parse::<Precision>(), Ok(p));
-        }
         let e = "Exact".parse::<Mode>().unwrap_err();
         assert_eq!(e, ParseModeError("Exact".into()));
         assert!(
             e.to_string()
                 .contains("native, restitution, impulse, exact")
-        );
-        assert!(
-            "f16"
-                .parse::<Precision>()
-                .unwrap_err()
-                .to_string()
-                .contains("f16")
         );
     }
 

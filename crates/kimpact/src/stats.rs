@@ -18,9 +18,9 @@ pub struct Stats {
     pub event_cap_hits: u64,
     /// Steps taken through kimpact.
     pub steps: u64,
-    /// Fast bodies left without the contact hook because every partner
-    /// they could touch moved with them (the integration's "calm
-    /// neighbourhoods" setting), summed over the steps.
+    /// Fast bodies left to the engine's own contact response because every
+    /// partner they could touch moved with them (where the integration
+    /// offers that), summed over the steps.
     #[cfg_attr(feature = "serde", serde(default))]
     pub calm_bodies: u64,
     /// `Σ (asked d − used d)` over the clamped impacts whose ask is finite,

@@ -114,13 +114,27 @@ pub(crate) struct Taken {
     pub calm: bool,
 }
 
-/// The state and scratch space of the test; nothing is allocated in a
-/// steady state.
-#[derive(Default)]
+/// When the test is tried next: what [`Calm`] carries from one step to the
+/// next (its scratch space aside).
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(
     feature = "serde-serialize",
     derive(serde::Serialize, serde::Deserialize)
 )]
+pub(crate) struct CalmSchedule {
+    /// Steps to wait before the next try.
+    pub wait: u32,
+    /// The last wait.
+    pub backoff: u32,
+    /// Fast bodies at the last `prepare`.
+    pub last_fast: u32,
+    /// Awake bodies at the last `prepare`.
+    pub last_awake: u32,
+}
+
+/// The state and scratch space of the test; nothing is allocated in a
+/// steady state.
+#[derive(Default)]
 pub(crate) struct Calm {
     /// Steps to wait before the next try (the test backs off where it does
     /// not pay: few calm bodies, or few pairs in contact reach among them,
@@ -131,9 +145,7 @@ pub(crate) struct Calm {
     /// Fast bodies at the last `prepare`.
     pub last_fast: u32,
     /// Awake bodies at the last `prepare`.
-    #[cfg_attr(feature = "serde-serialize", serde(default))]
     pub last_awake: u32,
-    #[cfg_attr(feature = "serde-serialize", serde(skip))]
     scratch: Scratch,
 }
 
@@ -179,6 +191,34 @@ impl Calm {
     /// A box is tested one by one when its largest side exceeds this many
     /// times the members' mean.
     const BIG: Real = 4.0;
+
+    /// A test that tries next as `schedule` says, with an empty scratch
+    /// space.
+    pub fn with_schedule(schedule: CalmSchedule) -> Self {
+        let CalmSchedule {
+            wait,
+            backoff,
+            last_fast,
+            last_awake,
+        } = schedule;
+        Self {
+            wait,
+            backoff,
+            last_fast,
+            last_awake,
+            scratch: Scratch::default(),
+        }
+    }
+
+    /// When the test is tried next.
+    pub fn schedule(&self) -> CalmSchedule {
+        CalmSchedule {
+            wait: self.wait,
+            backoff: self.backoff,
+            last_fast: self.last_fast,
+            last_awake: self.last_awake,
+        }
+    }
 
     /// Whether to try the test at this step (counts the wait down): at
     /// least `MIN_FAST` fast bodies, and one in `PAYS` awake bodies fast (a

@@ -4,13 +4,13 @@ use crate::math::Real;
 
 /// Tuning of the hand-over between kimpact and rapier. Checked when a
 /// [`crate::Kimpact`] is built ([`crate::Kimpact::with_config`]) and when it
-/// is changed ([`crate::Kimpact::set_config`]): see [`Config::validate`].
+/// is changed ([`crate::Kimpact::set_config`]): see [`ResolverConfig::validate`].
 #[derive(Copy, Clone, Debug, PartialEq)]
 #[cfg_attr(
     feature = "serde-serialize",
     derive(serde::Serialize, serde::Deserialize)
 )]
-pub struct Config {
+pub struct ResolverConfig {
     /// Normal approach speeds at or below this are resting contacts: rapier
     /// keeps them, with zero restitution (no bounce) in a pair kimpact's hook
     /// sees, and with the colliders' own restitution in a pair of two bodies
@@ -55,7 +55,7 @@ fn yes() -> bool {
     true
 }
 
-impl Default for Config {
+impl Default for ResolverConfig {
     fn default() -> Self {
         Self {
             rest_speed: None,
@@ -67,30 +67,30 @@ impl Default for Config {
     }
 }
 
-/// An invalid [`Config`] field.
+/// An invalid [`ResolverConfig`] field.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-pub enum ConfigError {
+pub enum ResolverConfigError {
     /// `rest_speed` is NaN, infinite or negative.
-    #[error("Config::rest_speed must be finite and >= 0, got {0}")]
+    #[error("ResolverConfig::rest_speed must be finite and >= 0, got {0}")]
     RestSpeed(Real),
     /// `max_events_per_step` is zero.
-    #[error("Config::max_events_per_step must be at least 1, got 0")]
+    #[error("ResolverConfig::max_events_per_step must be at least 1, got 0")]
     MaxEventsPerStep,
 }
 
-impl Config {
+impl ResolverConfig {
     /// Check every field.
     ///
     /// # Errors
-    /// The first invalid field, as a [`ConfigError`] naming it.
-    pub fn validate(&self) -> Result<(), ConfigError> {
+    /// The first invalid field, as a [`ResolverConfigError`] naming it.
+    pub fn validate(&self) -> Result<(), ResolverConfigError> {
         if let Some(r) = self.rest_speed
             && !(r.is_finite() && r >= 0.0)
         {
-            return Err(ConfigError::RestSpeed(r));
+            return Err(ResolverConfigError::RestSpeed(r));
         }
         if self.max_events_per_step == 0 {
-            return Err(ConfigError::MaxEventsPerStep);
+            return Err(ResolverConfigError::MaxEventsPerStep);
         }
         Ok(())
     }

@@ -99,10 +99,6 @@ impl From<&kimpact::RigidImpact<Real, DIM>> for Outcome {
 /// A step's impact events and the running totals: what every stage
 /// writes its results to.
 #[derive(Clone, Debug, Default)]
-#[cfg_attr(
-    feature = "serde-serialize",
-    derive(serde::Serialize, serde::Deserialize)
-)]
 pub(crate) struct EventLog {
     pub events: Vec<ImpactEvent>,
     pub stats: Stats,

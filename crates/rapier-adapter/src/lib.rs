@@ -54,7 +54,8 @@ pub use kimpact::{FixedPartner, ImpactFriction, Law, LawError, LawParams, Precis
 // calm, prepare                 stage 1: hook flags and starts
 // replay                        stages 1 and 3: impacts in time order
 // hook                          stage 2: the contact hook
-// resolver                      Kimpact: the public resolver and its stages
+// resolver                      Kimpact: the public resolver and its stages;
+//                               resolver/snapshot: its saved form
 mod body_view;
 mod calm;
 mod candidates;
@@ -78,9 +79,9 @@ mod sweep_grid;
 #[cfg(test)]
 mod test_rng;
 
-pub use config::{Config, ConfigError};
+pub use config::{ResolverConfig, ResolverConfigError};
 pub use events::{ImpactEvent, Stats};
 pub use hook::StepHooks;
 pub use material::Material;
 pub use mode::{Mode, ParseModeError};
-pub use resolver::{HandleError, Kimpact, StageError};
+pub use resolver::{HandleError, Kimpact, PreparedStep, Snapshot, SnapshotError};

@@ -61,6 +61,15 @@ impl Marks {
         }
     }
 
+    /// The marked colliders in index order, each with whether it is a
+    /// point collider and its material.
+    pub(crate) fn iter(&self) -> impl Iterator<Item = (ColliderHandle, bool, Option<&Material>)> {
+        self.tags.iter().enumerate().filter_map(|(index, &tag)| {
+            let handle = ColliderHandle::from_raw_parts(index as u32, tag.checked_sub(1)?);
+            Some((handle, !self.is_extended(handle), self.material(handle)))
+        })
+    }
+
     /// How many colliders are marked.
     pub(crate) fn len(&self) -> usize {
         self.tags.iter().filter(|&&tag| tag != 0).count()

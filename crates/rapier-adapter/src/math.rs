@@ -42,20 +42,3 @@ pub fn from_law(v: &LawVector) -> Vector {
         Vector::new(v[0], v[1], v[2])
     }
 }
-
-/// A cuboid collider from its half-extents, in either dimension (rapier's
-/// `ColliderBuilder::cuboid` takes one argument per axis).
-pub fn cuboid(half_extents: Vector) -> crate::rapier::prelude::ColliderBuilder {
-    #[cfg(feature = "dim2")]
-    {
-        crate::rapier::prelude::ColliderBuilder::cuboid(half_extents.x, half_extents.y)
-    }
-    #[cfg(feature = "dim3")]
-    {
-        crate::rapier::prelude::ColliderBuilder::cuboid(
-            half_extents.x,
-            half_extents.y,
-            half_extents.z,
-        )
-    }
-}

@@ -21,6 +21,6 @@
 //! together. The rapier crate itself is [`crate::rapier`].
 
 pub use crate::{
-    Config, ConfigError, FixedPartner, HandleError, ImpactEvent, Kimpact, Law, LawError, LawParams,
-    Material, Mode, StageError, Stats, StepHooks,
+    FixedPartner, HandleError, ImpactEvent, Kimpact, Law, LawError, LawParams, Material, Mode,
+    PreparedStep, ResolverConfig, ResolverConfigError, Stats, StepHooks,
 };

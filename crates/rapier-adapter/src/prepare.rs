@@ -15,7 +15,7 @@
 use std::sync::atomic::{AtomicU32, Ordering};
 
 use crate::body_view::{SWEPT_SHARE, Starts, half_size, path_velocity};
-use crate::calm::{Calm, Frame};
+use crate::calm::{Calm, CalmSchedule, Frame};
 use crate::frame::StepFrame;
 use crate::marks::Marks;
 use crate::math::Real;
@@ -64,19 +64,35 @@ impl<'a> FlagStep<'a> {
     }
 }
 
-/// The hook flags kimpact keeps between steps, and the start of the step.
-#[derive(Default)]
+/// What [`Prepare`] carries from one step to the next (the rest of its
+/// state is the scratch of one step): the hook flags it set in rapier's
+/// collider set, the bodies the next step must look at beyond rapier's
+/// active set, and when the calm test is tried next. A snapshot holds it.
+#[derive(Clone, Debug, Default, PartialEq)]
 #[cfg_attr(
     feature = "serde-serialize",
     derive(serde::Serialize, serde::Deserialize)
 )]
+pub(crate) struct Carried {
+    /// The colliders whose `MODIFY_SOLVER_CONTACTS` flag kimpact set at the
+    /// last step (cleared by the next one unless flagged again).
+    pub hooked: Vec<ColliderHandle>,
+    /// Colliders marked since the last step.
+    pub marked_since_step: Vec<ColliderHandle>,
+    /// Bodies kimpact gave a new velocity at the last step.
+    pub woken: Vec<RigidBodyHandle>,
+    /// When the calm test is tried next.
+    pub calm: CalmSchedule,
+}
+
+/// The hook flags kimpact keeps between steps, and the start of the step.
+#[derive(Default)]
 pub(crate) struct Prepare {
     /// Per collider index: whether `MODIFY_SOLVER_CONTACTS` is set by us.
     pub ours: Vec<bool>,
     /// Colliders whose hook flag we set this step.
     pub flagged: Vec<ColliderHandle>,
     /// Scratch of `run`: last step's `flagged`.
-    #[cfg_attr(feature = "serde-serialize", serde(skip))]
     previous: Vec<ColliderHandle>,
     /// Per collider index: the step (`epoch`) at which it was last flagged.
     seen: Vec<u32>,
@@ -86,7 +102,6 @@ pub(crate) struct Prepare {
     /// Per collider index: the step (`epoch`) at which kimpact's hook left
     /// one of its pairs with solver contacts (see [`Prepare::touch`]), sized
     /// by `flag` to cover the flagged colliders.
-    #[cfg_attr(feature = "serde-serialize", serde(skip))]
     touched: Vec<AtomicU32>,
     /// The `epoch` of the step before this one.
     last_epoch: u32,
@@ -104,22 +119,58 @@ pub(crate) struct Prepare {
     /// looks at them then.
     pub woken: Vec<RigidBodyHandle>,
     /// Per body index: start-of-step translation (every law mode).
-    #[cfg_attr(feature = "serde-serialize", serde(skip))]
     pub starts: Starts,
     /// Flagged bodies whose sleep timer runs while they move faster than
-    /// the rest speed (`Config::keep_moving_awake`): woken by
+    /// the rest speed (`ResolverConfig::keep_moving_awake`): woken by
     /// [`Prepare::wake_moving`].
-    #[cfg_attr(feature = "serde-serialize", serde(skip))]
     to_wake: Vec<RigidBodyHandle>,
-    /// Calm neighbourhoods (`Config::calm_neighbourhoods`).
+    /// Calm neighbourhoods (`ResolverConfig::calm_neighbourhoods`).
     calm: Calm,
-    /// This step's `Config::fixed_partners`: whether a moving kinematic
+    /// This step's `ResolverConfig::fixed_partners`: whether a moving kinematic
     /// body's colliders are flagged (see [`Prepare::flag`]).
-    #[cfg_attr(feature = "serde-serialize", serde(skip))]
     partners: bool,
 }
 
 impl Prepare {
+    /// What this carries to the next step.
+    pub(crate) fn carried(&self) -> Carried {
+        Carried {
+            hooked: self.flagged.clone(),
+            marked_since_step: self.pending.clone(),
+            woken: self.woken.clone(),
+            calm: self.calm.schedule(),
+        }
+    }
+
+    /// The state `carried` leaves for the next step. The epoch starts
+    /// afresh: the next step reads whether a collider flagged at the last
+    /// one touches something from rapier's narrow phase (as for a collider
+    /// flagged afresh), which says what the hook recorded then.
+    pub(crate) fn from_carried(carried: Carried) -> Self {
+        let Carried {
+            hooked,
+            marked_since_step,
+            woken,
+            calm,
+        } = carried;
+        let mut ours = Vec::new();
+        for &ch in &hooked {
+            let index = ch.into_raw_parts().0 as usize;
+            if ours.len() <= index {
+                ours.resize(index + 1, false);
+            }
+            ours[index] = true;
+        }
+        Self {
+            ours,
+            flagged: hooked,
+            pending: marked_since_step,
+            woken,
+            calm: Calm::with_schedule(calm),
+            ..Self::default()
+        }
+    }
+
     /// Set the hook flag on the marked colliders of moving, awake dynamic
     /// bodies (only they can start an impact), clear the flags we set on
     /// others, and store where those bodies start the step.
@@ -257,7 +308,7 @@ impl Prepare {
 
     /// Restart the sleep timer (rapier's `wake_up(true)`) of every body
     /// flagged this step that moves faster than `rest_speed` and whose
-    /// timer runs (noted while flagging, with `Config::keep_moving_awake`),
+    /// timer runs (noted while flagging, with `ResolverConfig::keep_moving_awake`),
     /// so that rapier never puts a marked body to sleep (and zeroes its
     /// velocity) while it moves faster than the rest speed. A body at rest
     /// (a settled pile) is never flagged and sleeps as rapier lets it.
@@ -381,7 +432,7 @@ impl Prepare {
     /// Set the hook flag on the marked colliders of body `handle`, `rb`
     /// (leaving a flag the user set alone); whether it has any marked
     /// collider. A kinematic body's colliders are all flagged with
-    /// `Config::fixed_partners` (they meet marked colliders by the law,
+    /// `ResolverConfig::fixed_partners` (they meet marked colliders by the law,
     /// marked or not). Notes, for each collider flagged, whether it is swept
     /// or crowded (restitution mode), and whether the body's sleep timer
     /// must restart.

@@ -6,7 +6,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use kimpact::{Law, LawError, LawParams};
 
 use crate::candidates::Candidates;
-use crate::config::{Config, ConfigError};
+use crate::config::{ResolverConfig, ResolverConfigError};
 use crate::events::{EventLog, ImpactEvent, Stats};
 use crate::frame::StepFrame;
 use crate::hook::StepHooks;
@@ -36,19 +36,17 @@ pub enum HandleError {
     NotMarked(ColliderHandle),
 }
 
-/// A stage called out of order.
-#[derive(Copy, Clone, Debug, PartialEq, Eq, thiserror::Error)]
-pub enum StageError {
-    /// [`Kimpact::after_step`] without a [`Kimpact::before_step`] since the
-    /// last one: there is no step to finish. Nothing was changed.
-    #[error("Kimpact::after_step was called without a Kimpact::before_step before it")]
-    NotPrepared,
-}
-
-/// The step [`Kimpact::before_step`] prepared, until
-/// [`Kimpact::after_step`] finishes it.
-#[derive(Copy, Clone, Debug)]
-struct Prepared {
+/// The step [`Kimpact::before_step`] prepared: [`Kimpact::hooks`] reads it
+/// during `PhysicsPipeline::step` and [`Kimpact::after_step`] consumes it,
+/// so the three stages can only run in their order (there is no finishing
+/// a step that was not prepared, nor finishing one twice).
+///
+/// It holds the step's gravity, integration parameters and mode as
+/// `before_step` fixed them; hand it to the same [`Kimpact`] (the resolver
+/// keeps the rest of the step's state).
+#[derive(Debug)]
+#[must_use = "a prepared step is finished by Kimpact::after_step"]
+pub struct PreparedStep {
     frame: StepFrame,
     mode: Mode,
 }
@@ -62,45 +60,33 @@ struct Prepared {
 /// substeps) calls them in turn:
 ///
 /// ```text
-/// kimpact.before_step(gravity, &params, &islands, &broad_phase, &narrow_phase,
-///     &mut bodies, &mut colliders, &impulse_joints, &multibody_joints, &user_hooks);
-/// pipeline.step(gravity, &params, /* … the sets … */, &kimpact.hooks(&user_hooks), &events);
-/// kimpact.after_step(&narrow_phase, &broad_phase, &mut bodies, &colliders,
-///     &impulse_joints, &multibody_joints, &user_hooks)?;
+/// let prepared = kimpact.before_step(gravity, &params, &islands, &broad_phase,
+///     &narrow_phase, &mut bodies, &mut colliders);
+/// pipeline.step(gravity, &params, /* … the sets … */,
+///     &kimpact.hooks(&prepared, &user_hooks), &events);
+/// kimpact.after_step(prepared, &narrow_phase, &broad_phase, &mut bodies, &colliders,
+///     &impulse_joints, &multibody_joints, &user_hooks);
 /// ```
 ///
 /// (`examples/stages.rs` runs it.)
 ///
-/// With the `serde-serialize` feature it serializes with rapier's world (the
-/// scratch space of a step is skipped: it is empty between steps), so a
-/// saved and restored simulation continues bit for bit.
-#[cfg_attr(
-    feature = "serde-serialize",
-    derive(serde::Serialize, serde::Deserialize)
-)]
+/// [`Kimpact::snapshot`] saves its state between steps and
+/// [`Kimpact::from_snapshot`] restores it: with rapier's world of the same
+/// moment, the simulation continues bit for bit.
 pub struct Kimpact {
     law: Law<Real>,
     mode: Mode,
-    config: Config,
+    config: ResolverConfig,
     /// The marked colliders.
-    #[cfg_attr(feature = "serde-serialize", serde(rename = "marked"))]
     marks: Marks,
     /// Hook flags, starts, and the bodies to look at in the next step.
-    #[cfg_attr(feature = "serde-serialize", serde(flatten))]
     prepare: Prepare,
     /// The pairs the hook hands over during the step.
-    #[cfg_attr(feature = "serde-serialize", serde(skip))]
     candidates: Candidates,
     /// Pairs the hook's runtime guard cut off during the step.
-    #[cfg_attr(feature = "serde-serialize", serde(skip))]
     guarded: AtomicU64,
-    /// The step between `before_step` and `after_step`.
-    #[cfg_attr(feature = "serde-serialize", serde(skip))]
-    prepared: Option<Prepared>,
     /// This step's events and the totals.
-    #[cfg_attr(feature = "serde-serialize", serde(flatten))]
     log: EventLog,
-    #[cfg_attr(feature = "serde-serialize", serde(skip))]
     replay: Replay,
 }
 
@@ -113,7 +99,6 @@ impl std::fmt::Debug for Kimpact {
             .field("mode", &self.mode)
             .field("config", &self.config)
             .field("marked", &self.marks.len())
-            .field("prepared", &self.prepared.is_some())
             .field("events", &self.log.events)
             .field("stats", &self.log.stats)
             .finish_non_exhaustive()
@@ -121,21 +106,25 @@ impl std::fmt::Debug for Kimpact {
 }
 
 impl Kimpact {
-    /// A resolver applying `law` in `mode`, with the default [`Config`].
+    /// A resolver applying `law` in `mode`, with the default [`ResolverConfig`].
     pub fn new(law: Law<Real>, mode: Mode) -> Self {
-        Self::build(law, mode, Config::default())
+        Self::build(law, mode, ResolverConfig::default())
     }
 
-    /// A resolver with an explicit [`Config`].
+    /// A resolver with an explicit [`ResolverConfig`].
     ///
     /// # Errors
-    /// A [`ConfigError`] naming the first invalid field of `config`.
-    pub fn with_config(law: Law<Real>, mode: Mode, config: Config) -> Result<Self, ConfigError> {
+    /// A [`ResolverConfigError`] naming the first invalid field of `config`.
+    pub fn with_config(
+        law: Law<Real>,
+        mode: Mode,
+        config: ResolverConfig,
+    ) -> Result<Self, ResolverConfigError> {
         config.validate()?;
         Ok(Self::build(law, mode, config))
     }
 
-    fn build(law: Law<Real>, mode: Mode, config: Config) -> Self {
+    fn build(law: Law<Real>, mode: Mode, config: ResolverConfig) -> Self {
         Self {
             law,
             mode,
@@ -144,7 +133,6 @@ impl Kimpact {
             prepare: Prepare::default(),
             candidates: Candidates::default(),
             guarded: AtomicU64::new(0),
-            prepared: None,
             log: EventLog::default(),
             replay: Replay::default(),
         }
@@ -174,16 +162,16 @@ impl Kimpact {
     }
 
     /// The configuration.
-    pub fn config(&self) -> &Config {
+    pub fn config(&self) -> &ResolverConfig {
         &self.config
     }
 
     /// Change the configuration between steps.
     ///
     /// # Errors
-    /// A [`ConfigError`] naming the first invalid field; the old
+    /// A [`ResolverConfigError`] naming the first invalid field; the old
     /// configuration stays in force.
-    pub fn set_config(&mut self, config: Config) -> Result<(), ConfigError> {
+    pub fn set_config(&mut self, config: ResolverConfig) -> Result<(), ResolverConfigError> {
         config.validate()?;
         self.config = config;
         Ok(())
@@ -191,7 +179,7 @@ impl Kimpact {
 
     /// Mark `collider` of `colliders`: its contacts with other marked
     /// colliders (and with fixed or kinematic bodies, see
-    /// [`Config::fixed_partners`]) follow the law. Marking costs nothing
+    /// [`ResolverConfig::fixed_partners`]) follow the law. Marking costs nothing
     /// until the collider's body moves; marking a marked collider again
     /// changes nothing.
     ///
@@ -338,7 +326,7 @@ impl Kimpact {
         hooks: &dyn PhysicsHooks,
         events: &dyn EventHandler,
     ) {
-        self.before_step(
+        let prepared = self.before_step(
             gravity,
             integration_parameters,
             islands,
@@ -346,9 +334,6 @@ impl Kimpact {
             narrow_phase,
             bodies,
             colliders,
-            impulse_joints,
-            multibody_joints,
-            hooks,
         );
         pipeline.step(
             gravity,
@@ -362,11 +347,11 @@ impl Kimpact {
             multibody_joints,
             soft_bodies,
             ccd_solver,
-            &self.hooks(hooks),
+            &self.hooks(&prepared, hooks),
             events,
         );
-        // Prepared just above: cannot fail.
-        let _ = self.after_step(
+        self.after_step(
+            prepared,
             narrow_phase,
             broad_phase,
             bodies,
@@ -385,13 +370,11 @@ impl Kimpact {
     /// for rapier's contacts (more than a quarter of their size per step), whose
     /// pairs the replay takes after the step. Clears [`Kimpact::events`].
     ///
-    /// Takes the same gravity, integration parameters and user hooks
-    /// (`hooks`, or `&()`) as the step that follows, and rapier's sets as
-    /// they are before it. The joints and the user's hooks are those
-    /// [`Kimpact::after_step`] takes (where they decide whether a pair
-    /// kimpact's sweeps find may touch, as they do for rapier's narrow
-    /// phase); nothing before the step reads them today, and the stages
-    /// keep one signature so that a caller's code does not depend on it.
+    /// Takes the same gravity and integration parameters as the step that
+    /// follows, and rapier's sets as they are before it. Returns the
+    /// [`PreparedStep`] that [`Kimpact::hooks`] and [`Kimpact::after_step`]
+    /// take; preparing again before `after_step` starts the step over
+    /// (finish it with the newest one).
     #[allow(clippy::too_many_arguments)]
     pub fn before_step(
         &mut self,
@@ -402,10 +385,7 @@ impl Kimpact {
         narrow_phase: &NarrowPhase,
         bodies: &mut RigidBodySet,
         colliders: &mut ColliderSet,
-        impulse_joints: &ImpulseJointSet,
-        multibody_joints: &MultibodyJointSet,
-        hooks: &dyn PhysicsHooks,
-    ) {
+    ) -> PreparedStep {
         self.log.events.clear();
         self.log.stats.steps += 1;
         self.candidates.clear();
@@ -426,25 +406,28 @@ impl Kimpact {
         };
         self.log.stats.calm_bodies += self.prepare.run(&input, colliders);
         self.prepare.wake_moving(bodies);
-        let _ = (impulse_joints, multibody_joints, hooks);
-        self.prepared = Some(Prepared { frame, mode });
+        PreparedStep { frame, mode }
     }
 
     /// Stage 2: the [`PhysicsHooks`] to pass to `PhysicsPipeline::step`
-    /// between [`Kimpact::before_step`] and [`Kimpact::after_step`]. `user`
-    /// are the user's own hooks (or `&()`), chained before kimpact's: their
-    /// filters decide every pair, and their `modify_solver_contacts` runs
-    /// for the pairs whose colliders carry the user's own hook flag.
+    /// for the step `prepared` ([`Kimpact::before_step`]'s), before
+    /// [`Kimpact::after_step`] finishes it. `user` are the user's own hooks
+    /// (or `&()`), chained before kimpact's: their filters decide every
+    /// pair, and their `modify_solver_contacts` runs for the pairs whose
+    /// colliders carry the user's own hook flag.
     ///
     /// It takes `&self` (the hook appends to a mutex-guarded list), so it
     /// can be built from a shared borrow inside the step, on several
-    /// threads with rapier's `parallel` feature. Outside a prepared step
-    /// only the user's hooks run.
-    pub fn hooks<'a>(&'a self, user: &'a dyn PhysicsHooks) -> StepHooks<'a> {
+    /// threads with rapier's `parallel` feature.
+    pub fn hooks<'a>(
+        &'a self,
+        prepared: &PreparedStep,
+        user: &'a dyn PhysicsHooks,
+    ) -> StepHooks<'a> {
         StepHooks {
             law: &self.law,
-            frame: self.prepared.map(|p| p.frame),
-            mode: self.prepared.map_or(Mode::Native, |p| p.mode),
+            frame: Some(prepared.frame),
+            mode: prepared.mode,
             marks: &self.marks,
             prepare: &self.prepare,
             fixed_partners: self.config.fixed_partners,
@@ -454,23 +437,23 @@ impl Kimpact {
         }
     }
 
-    /// Stage 3, after `PhysicsPipeline::step`: the replay of the step's
-    /// impacts in time order (positions and velocities of the bodies it
-    /// bends are written into `bodies`): every governed impact in `Impulse`
-    /// and `Exact` mode, those of the bodies too fast for rapier's contacts
-    /// in `Restitution` mode, which also reports the impacts rapier's solver
-    /// bounced with the law's restitution. Fills [`Kimpact::events`] and
+    /// Stage 3, after `PhysicsPipeline::step`: finishes the step `prepared`
+    /// ([`Kimpact::before_step`]'s) with the replay of its impacts in time
+    /// order (positions and velocities of the bodies it bends are written
+    /// into `bodies`): every governed impact in `Impulse` and `Exact` mode,
+    /// those of the bodies too fast for rapier's contacts in `Restitution`
+    /// mode, which also reports the impacts rapier's solver bounced with
+    /// the law's restitution. Fills [`Kimpact::events`] and
     /// [`Kimpact::stats`].
     ///
-    /// Takes rapier's sets as its step left them, and the same user hooks
-    /// as [`Kimpact::before_step`].
-    ///
-    /// # Errors
-    /// [`StageError::NotPrepared`] without a [`Kimpact::before_step`] since
-    /// the last `after_step`; nothing changes then.
+    /// Takes rapier's sets as its step left them, and the user's hooks
+    /// (`hooks`, or `&()`) given to [`Kimpact::hooks`]: they and the joints
+    /// decide whether a pair kimpact's sweeps find may touch, as they do
+    /// for rapier's narrow phase.
     #[allow(clippy::too_many_arguments)]
     pub fn after_step(
         &mut self,
+        prepared: PreparedStep,
         narrow_phase: &NarrowPhase,
         broad_phase: &BroadPhaseBvh,
         bodies: &mut RigidBodySet,
@@ -478,8 +461,8 @@ impl Kimpact {
         impulse_joints: &ImpulseJointSet,
         multibody_joints: &MultibodyJointSet,
         hooks: &dyn PhysicsHooks,
-    ) -> Result<(), StageError> {
-        let Prepared { frame, mode } = self.prepared.take().ok_or(StageError::NotPrepared)?;
+    ) {
+        let PreparedStep { frame, mode } = prepared;
         let guarded = self.guarded.swap(0, Ordering::Relaxed);
         if guarded > 0 {
             log::warn!(
@@ -496,7 +479,7 @@ impl Kimpact {
                     if self.prepare.swept.is_empty() {
                         // Nothing too fast for rapier's contacts: every
                         // impact was rapier's solver's.
-                        return Ok(());
+                        return;
                     }
                 }
                 // Restitution mode sweeps only its fast bodies.
@@ -529,7 +512,6 @@ impl Kimpact {
                 );
             }
         }
-        Ok(())
     }
 
     /// Restitution mode: rapier's solver applied the law's restitution;
@@ -571,6 +553,10 @@ impl Kimpact {
         }
     }
 }
+
+mod snapshot;
+
+pub use snapshot::{Snapshot, SnapshotError};
 
 #[cfg(test)]
 mod sweep_tests;

@@ -25,9 +25,9 @@ pub(super) fn run(
     // Checked in the scene's precision when the scene was loaded.
     let law = k::Law::new(scene.effective_law().map(|x| x as Real))
         .expect("the scene's law was checked in its precision");
-    let config = k::Config {
+    let config = k::ResolverConfig {
         fixed_partners: scene.active(Effect::FixedWalls),
-        ..k::Config::default()
+        ..k::ResolverConfig::default()
     };
     let mut kimpact = k::Kimpact::with_config(law, mode, config)
         .expect("the default configuration with fixed_partners set is valid");

@@ -44,7 +44,7 @@ use kimpact::{Law, Mass};
 
 use crate::body_view::{LawBody, Starts, dominate, law_body};
 use crate::candidates::Candidate;
-use crate::config::Config;
+use crate::config::ResolverConfig;
 use crate::events::{EventLog, Outcome};
 use crate::frame::StepFrame;
 use crate::leaves::{LeafGrid, for_each_leaf};
@@ -224,7 +224,7 @@ impl Slot {
 /// hook handed over, and the step's constants.
 pub(crate) struct ReplayInput<'a> {
     pub law: &'a Law<Real>,
-    pub config: &'a Config,
+    pub config: &'a ResolverConfig,
     pub marks: &'a Marks,
     pub flagged: &'a [ColliderHandle],
     pub starts: &'a Starts,
