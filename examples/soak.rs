@@ -40,9 +40,16 @@ mod d2 {
     use k::rapier::prelude::*;
     include!("../tests/cases/soak.rs");
 
-    pub fn run(scene: &'static str, mode: &str, a: &super::Args) -> bool {
+    pub fn run(
+        scene: &'static str,
+        mode: &str,
+        balls: usize,
+        steps: u64,
+        progress: u64,
+        limit: Option<f64>,
+    ) -> bool {
         let mode: Mode = mode.parse().expect("checked by main");
-        let s = soak(scene, mode, a.balls, a.steps, a.progress, a.limit);
+        let s = soak(scene, mode, balls, steps, progress, limit);
         println!("{}", s.summary());
         s.passed()
     }
@@ -60,9 +67,16 @@ mod d3 {
     use k::rapier::prelude::*;
     include!("../tests/cases/soak.rs");
 
-    pub fn run(scene: &'static str, mode: &str, a: &super::Args) -> bool {
+    pub fn run(
+        scene: &'static str,
+        mode: &str,
+        balls: usize,
+        steps: u64,
+        progress: u64,
+        limit: Option<f64>,
+    ) -> bool {
         let mode: Mode = mode.parse().expect("checked by main");
-        let s = soak(scene, mode, a.balls, a.steps, a.progress, a.limit);
+        let s = soak(scene, mode, balls, steps, progress, limit);
         println!("{}", s.summary());
         s.passed()
     }
@@ -170,11 +184,9 @@ fn main() -> ExitCode {
                     "soak: {scene} {dim}D {mode}, {} balls, {} steps",
                     args.balls, args.steps
                 );
-                let ok = if dim == 2 {
-                    d2::run(scene, mode, &args)
-                } else {
-                    d3::run(scene, mode, &args)
-                };
+                let a = &args;
+                let run = if dim == 2 { d2::run } else { d3::run };
+                let ok = run(scene, mode, a.balls, a.steps, a.progress, a.limit);
                 failed += usize::from(!ok);
             }
         }

@@ -22,9 +22,6 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering::Relaxed};
 static COUNT: AtomicU64 = AtomicU64::new(0);
 
 static ATTRIBUTING: AtomicBool = AtomicBool::new(false);
-static SEEN: AtomicU64 = AtomicU64::new(0);
-static OWN: AtomicU64 = AtomicU64::new(0);
-static TRACE_OWN: AtomicU64 = AtomicU64::new(0);
 /// Distinct stacks by frame addresses: whether kimpact's, the frames'
 /// paths and how many allocations had it.
 type Stacks = HashMap<Box<[usize]>, (bool, Vec<String>, u64)>;
@@ -54,7 +51,6 @@ fn sample() -> bool {
     if IN_TRACE.with(|t| t.get()) {
         return false;
     }
-    SEEN.fetch_add(1, Relaxed);
     IN_TRACE.with(|t| t.set(true));
     let mut ips = [0usize; DEPTH];
     let mut len = 0;
@@ -67,16 +63,10 @@ fn sample() -> bool {
     let stacks = stacks.get_or_insert_with(HashMap::new);
     let entry = stacks.entry(ips[..len].into()).or_insert_with(|| {
         let paths = symbolize(&ips[..len]);
-        (
-            kimpact_harness::is_kimpact(paths.iter().map(String::as_str)),
-            paths,
-            0,
-        )
+        let own = kimpact_harness::is_kimpact(paths.iter().map(String::as_str));
+        (own, paths, 0)
     });
     entry.2 += 1;
-    if entry.0 {
-        OWN.fetch_add(1, Relaxed);
-    }
     IN_TRACE.with(|t| t.set(false));
     true
 }
@@ -132,10 +122,6 @@ pub fn count() -> u64 {
 
 /// Start classifying every allocation.
 pub fn attribute() {
-    let trace = std::env::var("KIMPACT_BENCH_TRACE_ALLOCS").ok();
-    TRACE_OWN.store(trace.and_then(|v| v.parse().ok()).unwrap_or(0), Relaxed);
-    SEEN.store(0, Relaxed);
-    OWN.store(0, Relaxed);
     if let Some(stacks) = STACKS.lock().unwrap_or_else(|e| e.into_inner()).as_mut() {
         stacks.clear();
     }
@@ -148,14 +134,13 @@ pub fn attribute() {
 pub fn stop_attribute() -> (u64, u64) {
     ATTRIBUTING.store(false, Relaxed);
     let stacks = STACKS.lock().unwrap_or_else(|e| e.into_inner());
-    let mut own: Vec<_> = stacks
-        .iter()
-        .flat_map(|s| s.values())
-        .filter(|s| s.0)
-        .collect();
+    let all: Vec<_> = stacks.iter().flat_map(|s| s.values()).collect();
+    let mut own: Vec<_> = all.iter().filter(|s| s.0).collect();
     own.sort_by(|a, b| b.2.cmp(&a.2).then_with(|| a.1.cmp(&b.1)));
-    for (_, paths, n) in own.iter().take(TRACE_OWN.load(Relaxed) as usize) {
+    let trace = std::env::var("KIMPACT_BENCH_TRACE_ALLOCS").ok();
+    let shown = trace.and_then(|v| v.parse().ok()).unwrap_or(0);
+    for (_, paths, n) in own.iter().take(shown) {
         eprintln!("== {n} allocations, kimpact's, from\n{}", paths.join("\n"));
     }
-    (SEEN.load(Relaxed), OWN.load(Relaxed))
+    (all.iter().map(|s| s.2).sum(), own.iter().map(|s| s.2).sum())
 }

@@ -4,15 +4,18 @@
 //! in lockstep with native rapier on the same configuration; each row sets
 //! what the mode adds to native's step beside what it adds on the base.
 
+use std::collections::BTreeSet;
 use std::fmt::Write as _;
 use std::path::Path;
 use std::process::ExitCode;
 
 use kimpact_harness::{BenchRow, EffectRow};
 
+use kimpact::Mode;
+
+use crate::cli::{Effect, name};
 use crate::raw::{Group, Raw};
 use crate::report::{self, fmt_us};
-use crate::{Effect, Mode};
 
 /// The table's rows: every law mode of every configuration.
 pub fn rows(groups: &[Group]) -> Vec<EffectRow> {
@@ -29,7 +32,7 @@ pub fn rows(groups: &[Group]) -> Vec<EffectRow> {
         for r in rows.iter().filter(|r| r.mode != Mode::Native) {
             let base_delta_us = base(g, r.mode).unwrap_or(f64::NAN);
             out.push(EffectRow {
-                effect: g.effect.map_or_else(String::new, Effect::name),
+                effect: g.effect.map_or_else(String::new, name),
                 scene: r.scene.clone(),
                 precision: r.precision,
                 balls: r.balls,
@@ -99,21 +102,14 @@ fn markdown(raw: &Raw, rows: &[&EffectRow]) -> String {
 pub fn render(dir: &Path, raw: &Raw) -> ExitCode {
     let rows = rows(&raw.groups);
     let mut files = Vec::new();
-    for scene in crate::set(rows.iter().map(|r| &r.scene)) {
+    for scene in BTreeSet::from_iter(rows.iter().map(|r| &r.scene)) {
         let mine: Vec<&EffectRow> = rows.iter().filter(|r| &r.scene == scene).collect();
         let md = markdown(raw, &mine);
         println!("{md}");
-        let csv = match report::csv(&mine) {
-            Ok(csv) => csv,
-            Err(e) => {
-                eprintln!("cannot write the CSV: {e}");
-                return ExitCode::FAILURE;
-            }
-        };
         let folder = dir.join(format!("effects-{scene}"));
         files.extend([
             (folder.join("effects.md"), md.into()),
-            (folder.join("effects.csv"), csv),
+            (folder.join("effects.csv"), report::csv(&mine)),
         ]);
     }
     report::write(dir, &files)

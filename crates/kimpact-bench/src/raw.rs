@@ -4,7 +4,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::{Cli, Effect, Mode, Precision, Scene};
+use kimpact::{Mode, Precision};
+
+use crate::cli::{Cli, Effect, Scene};
 
 /// What the measured steps of one world did: their number, the CPU time
 /// of the process per step of each sample (µs), the heap allocations (all

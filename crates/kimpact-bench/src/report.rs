@@ -1,12 +1,14 @@
 //! From the child runs to the table, `results.csv` and the scaling plots.
 
-use std::fmt::Write as _;
+use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use crate::Mode;
-use crate::raw::{Group, Header, Measure, Pair, Raw};
+use kimpact::Mode;
 use kimpact_harness::{BenchRow, Method, Panel, write_files};
+
+use crate::cli::{Cli, name};
+use crate::raw::{Group, Header, Measure, Pair, Raw};
 
 /// The median of `v` (the upper middle value of an even count; NaN for
 /// none).
@@ -31,72 +33,68 @@ fn per_step(runs: &[&Measure], f: impl Fn(&Measure) -> u64) -> f64 {
 
 /// The rows of one group (one per mode).
 pub fn rows(g: &Group) -> Vec<BenchRow> {
-    let ok_pairs = || {
-        g.pairs
+    let ok = |mode: Option<Mode>| -> Vec<&Pair> {
+        let mine = g
+            .pairs
             .iter()
-            .filter_map(|(m, p)| Some((*m, p.as_ref().ok()?)))
+            .filter(|(m, _)| mode.is_none_or(|mode| *m == mode));
+        mine.filter_map(|(_, p)| p.as_ref().ok()).collect()
     };
-    let all_native: Vec<&Measure> = ok_pairs().map(|(_, p)| &p.native).collect();
-    let solo = |mode| g.solos.iter().find(|(m, _)| *m == mode).map(|(_, s)| s);
-    let rss = |mode| solo(mode).and_then(|s| s.as_ref().ok());
-    g.modes
-        .iter()
-        .map(|&mode| {
-            let mine: Vec<&Pair> = ok_pairs()
-                .filter(|(m, _)| *m == mode)
-                .map(|p| p.1)
-                .collect();
-            // This mode's measures and native's from the same processes.
-            let (law, native): (Vec<&Measure>, Vec<&Measure>) = match mode {
-                Mode::Native => (all_native.clone(), all_native.clone()),
-                _ => mine.iter().map(|p| (&p.law, &p.native)).unzip(),
-            };
-            let failed = g
-                .pairs
-                .iter()
-                .filter(|(m, _)| mode == Mode::Native || *m == mode);
-            let error = failed.filter_map(|(_, p)| p.as_ref().err().cloned()).next();
-            let error = error.or_else(|| {
-                let e = solo(mode)?.as_ref().err()?;
-                Some(format!("memory run: {e}"))
-            });
-            let median_us = median_of(law.iter().copied());
-            let native_median_us = median_of(native.iter().copied());
-            let rounds: Vec<f64> = mine
-                .iter()
-                .map(|p| median_of([&p.law]) / median_of([&p.native]))
-                .collect();
-            let allocs_per_step = per_step(&law, |m| m.allocs);
-            let share = match rss(mode).and_then(|s| s.attributed) {
-                Some((seen, own)) if seen > 0 => own as f64 / seen as f64,
-                Some(_) => 0.0,
-                None => f64::NAN,
-            };
-            BenchRow {
-                scene: g.scene.name().to_owned(),
-                dim: g.scene.dim(),
-                precision: g.precision,
-                parallel: cfg!(feature = "parallel"),
-                balls: g.balls,
-                mode,
-                rounds: law.len(),
-                samples: law.iter().map(|m| m.cpu_us.len()).sum(),
-                median_us,
-                native_median_us,
-                ratio: median_us / native_median_us,
-                ratio_min: rounds.iter().copied().fold(f64::NAN, f64::min),
-                ratio_max: rounds.iter().copied().fold(f64::NAN, f64::max),
-                ratio_median_rounds: median(rounds),
-                delta_us: median_us - native_median_us,
-                allocs_per_step,
-                native_allocs_per_step: per_step(&native, |m| m.allocs),
-                kimpact_allocs_per_step: share * allocs_per_step,
-                peak_rss_mib: rss(mode).map_or(f64::NAN, |s| s.peak_rss_kib as f64 / 1024.0),
-                impacts_per_step: per_step(&law, |m| m.impacts),
-                error,
-            }
-        })
-        .collect()
+    let all_native: Vec<&Measure> = ok(None).into_iter().map(|p| &p.native).collect();
+    let solo = |mode| {
+        g.solos
+            .iter()
+            .find(|(m, _)| *m == mode)
+            .map(|(_, s)| s.as_ref())
+    };
+    let row = |mode| {
+        let mine = ok(Some(mode));
+        // This mode's measures and native's from the same processes.
+        let (law, native): (Vec<&Measure>, Vec<&Measure>) = match mode {
+            Mode::Native => (all_native.clone(), all_native.clone()),
+            _ => mine.iter().map(|p| (&p.law, &p.native)).unzip(),
+        };
+        let failed = g
+            .pairs
+            .iter()
+            .filter(|(m, _)| mode == Mode::Native || *m == mode);
+        let error = failed.filter_map(|(_, p)| p.as_ref().err().cloned()).next();
+        let memory_error = || Some(format!("memory run: {}", solo(mode)?.err()?));
+        let round = |p: &&Pair| median_of([&p.law]) / median_of([&p.native]);
+        let rounds: Vec<f64> = mine.iter().map(round).collect();
+        let (median_us, native_median_us) = (median_of(law.clone()), median_of(native.clone()));
+        let allocs_per_step = per_step(&law, |m| m.allocs);
+        let memory = solo(mode).and_then(Result::ok);
+        let share = match memory.and_then(|s| s.attributed) {
+            Some((seen, own)) if seen > 0 => own as f64 / seen as f64,
+            Some(_) => 0.0,
+            None => f64::NAN,
+        };
+        BenchRow {
+            scene: name(g.scene),
+            dim: g.scene.dim(),
+            precision: g.precision,
+            parallel: cfg!(feature = "parallel"),
+            balls: g.balls,
+            mode,
+            rounds: law.len(),
+            samples: law.iter().map(|m| m.cpu_us.len()).sum(),
+            median_us,
+            native_median_us,
+            ratio: median_us / native_median_us,
+            ratio_min: rounds.iter().copied().fold(f64::NAN, f64::min),
+            ratio_max: rounds.iter().copied().fold(f64::NAN, f64::max),
+            ratio_median_rounds: median(rounds),
+            delta_us: median_us - native_median_us,
+            allocs_per_step,
+            native_allocs_per_step: per_step(&native, |m| m.allocs),
+            kimpact_allocs_per_step: share * allocs_per_step,
+            peak_rss_mib: memory.map_or(f64::NAN, |s| s.peak_rss_kib as f64 / 1024.0),
+            impacts_per_step: per_step(&law, |m| m.impacts),
+            error: error.or_else(memory_error),
+        }
+    };
+    g.modes.iter().map(|&mode| row(mode)).collect()
 }
 
 /// A time per step for the tables: three significant digits or so.
@@ -113,39 +111,35 @@ pub fn fmt_us(us: f64) -> String {
 
 /// The whole report as markdown.
 pub fn markdown(h: &Header, rows: &[BenchRow]) -> String {
-    let c = &h.cli;
-    let mut s = format!(
-        "## kimpact-bench results\n\n- command: `{}`\n- machine: {}\n",
-        h.command, h.machine
+    let Cli {
+        warmup,
+        steps,
+        block,
+        memory_steps,
+        small_block,
+        small_repeats,
+        ..
+    } = h.cli;
+    let (rounds, memory_warmup) = (h.cli.rounds.max(1), h.cli.memory_warmup.unwrap_or(warmup));
+    let (command, machine, wall_s) = (&h.command, &h.machine, h.wall_s);
+    let parallel = if h.parallel { "on" } else { "off" };
+    let mut s =
+        format!("## kimpact-bench results\n\n- command: `{command}`\n- machine: {machine}\n");
+    s += &format!(
+        "- rapier `parallel`: {parallel}; each timing run is one process stepping native rapier and one mode on two copies of the scene in lockstep: {warmup} warm-up steps each, then {steps} measured steps each, alternated in blocks of {block} (native, mode, native, mode…); {rounds} timing run(s) per mode; peak RSS and the attribution of allocations from a separate process per mode running alone ({memory_steps} steps after {memory_warmup} warm-up steps); wall time {wall_s:.0} s\n"
     );
-    let _ = writeln!(
-        s,
-        "- rapier `parallel`: {}; each timing run is one process stepping native rapier and one mode on two copies of the scene in lockstep: {} warm-up steps each, then {} measured steps each, alternated in blocks of {} (native, mode, native, mode…); {} timing run(s) per mode; peak RSS and the attribution of allocations from a separate process per mode running alone ({} steps after {} warm-up steps); wall time {:.0} s",
-        if h.parallel { "on" } else { "off" },
-        c.warmup,
-        c.steps,
-        c.block,
-        c.rounds.max(1),
-        c.memory_steps,
-        c.memory_warmup.unwrap_or(c.warmup),
-        h.wall_s
-    );
-    let _ = writeln!(
-        s,
-        "- small scenes (billiards, restitution3, restitution2, pinball): blocks of {} steps, each timed whole (its time over its steps is one sample), over {} episodes per timing run (both worlds built anew, warmed up and measured each time)",
-        c.small_block, c.small_repeats
+    s += &format!(
+        "- small scenes (billiards, restitution3, restitution2, pinball): blocks of {small_block} steps, each timed whole (its time over its steps is one sample), over {small_repeats} episodes per timing run (both worlds built anew, warmed up and measured each time)\n"
     );
     s += "- time/step: median CPU time of one step (process, all threads; native's row: over all its timing runs); native, same runs: native's median in this mode's timing runs; ×native: the ratio of the two (with --rounds > 1, in parentheses: the lowest and highest timing run's ratio; after the semicolon, the median of the runs' ratios); Δ/step: the mode's median minus native's; allocs/step: heap allocations per measured step, all threads (in parentheses: kimpact's own, the share of the memory run's allocations whose stacks lead to kimpact's code, times the total); peak RSS: VmHWM of a process running that mode alone; impacts/step: resolved by the law; notes: a failed run\n\n";
     s += "| scene | prec | balls | mode | time/step | native, same runs | ×native | Δ/step | allocs/step (kimpact's) | peak RSS | impacts/step | notes |\n";
     s += "|---|---|---:|---|---:|---:|---|---:|---:|---:|---:|---|\n";
     for r in rows {
         let native = r.mode == Mode::Native;
+        let (lo, hi, mid) = (r.ratio_min, r.ratio_max, r.ratio_median_rounds);
         let ratio = match (native, r.rounds > 1) {
             (true, _) => "1".to_owned(),
-            (false, true) => format!(
-                "{:.3} ({:.2}-{:.2}; {:.2})",
-                r.ratio, r.ratio_min, r.ratio_max, r.ratio_median_rounds
-            ),
+            (false, true) => format!("{:.3} ({lo:.2}-{hi:.2}; {mid:.2})", r.ratio),
             (false, false) => format!("{:.3}", r.ratio),
         };
         let (native_us, delta) = match native {
@@ -156,18 +150,22 @@ pub fn markdown(h: &Header, rows: &[BenchRow]) -> String {
             true => format!("{:.1}", r.kimpact_allocs_per_step),
             false => "?".to_owned(),
         };
-        let _ = writeln!(
-            s,
-            "| {} | {} | {} | {} | {} | {native_us} | {ratio} | {delta} | {:.1} ({own}) | {:.0} MiB | {:.2} | {} |",
-            r.scene,
-            r.precision,
-            r.balls,
-            r.mode,
+        let BenchRow {
+            scene,
+            precision,
+            balls,
+            mode,
+            allocs_per_step,
+            peak_rss_mib,
+            ..
+        } = r;
+        let (time, impacts, notes) = (
             fmt_us(r.median_us),
-            r.allocs_per_step,
-            r.peak_rss_mib,
             r.impacts_per_step,
-            r.error.as_deref().unwrap_or_default()
+            r.error.as_deref().unwrap_or_default(),
+        );
+        s += &format!(
+            "| {scene} | {precision} | {balls} | {mode} | {time} | {native_us} | {ratio} | {delta} | {allocs_per_step:.1} ({own}) | {peak_rss_mib:.0} MiB | {impacts:.2} | {notes} |\n"
         );
     }
     s
@@ -176,7 +174,7 @@ pub fn markdown(h: &Header, rows: &[BenchRow]) -> String {
 /// Time per step against balls, one line per mode (log-log), of the rows
 /// of one scene and precision, when they hold several sizes.
 fn scaling_svg(rows: &[&BenchRow]) -> Option<Result<String, String>> {
-    let sizes = crate::set(rows.iter().map(|r| r.balls));
+    let sizes = BTreeSet::from_iter(rows.iter().map(|r| r.balls));
     let series = Mode::ALL.map(|m| {
         let mine = rows.iter().filter(|r| r.mode == m);
         (
@@ -200,30 +198,23 @@ fn scaling_svg(rows: &[&BenchRow]) -> Option<Result<String, String>> {
 }
 
 /// `rows` as CSV, through serde.
-pub fn csv<T: serde::Serialize>(rows: &[T]) -> Result<Vec<u8>, String> {
+pub fn csv<T: serde::Serialize>(rows: &[T]) -> Vec<u8> {
     let mut csv = csv::Writer::from_writer(Vec::new());
     rows.iter()
-        .try_for_each(|r| csv.serialize(r))
-        .map_err(|e| e.to_string())?;
-    csv.into_inner().map_err(|e| e.to_string())
+        .for_each(|r| csv.serialize(r).expect("a row serializes"));
+    csv.into_inner().expect("a Vec takes every byte")
 }
 
 /// Write `files` whole (`write_files`), saying so on stderr.
 pub fn write(dir: &Path, files: &[(PathBuf, Vec<u8>)]) -> ExitCode {
-    let files: Vec<(&Path, &[u8])> = files
-        .iter()
-        .map(|(p, b)| (p.as_path(), b.as_slice()))
-        .collect();
-    match write_files(&files) {
-        Ok(()) => {
-            eprintln!("wrote {}", dir.display());
-            ExitCode::SUCCESS
-        }
+    match write_files(files) {
+        Ok(()) => eprintln!("wrote {}", dir.display()),
         Err(e) => {
             eprintln!("{e}");
-            ExitCode::FAILURE
+            return ExitCode::FAILURE;
         }
     }
+    ExitCode::SUCCESS
 }
 
 /// Print the table of `raw` and write `results.md`, `results.csv` and the
@@ -232,18 +223,11 @@ pub fn render(dir: &Path, raw: &Raw) -> ExitCode {
     let rows: Vec<BenchRow> = raw.groups.iter().flat_map(rows).collect();
     let markdown = markdown(&raw.header, &rows);
     println!("{markdown}");
-    let csv = match csv(&rows) {
-        Ok(csv) => csv,
-        Err(e) => {
-            eprintln!("cannot write the CSV: {e}");
-            return ExitCode::FAILURE;
-        }
-    };
     let mut files = vec![
         (dir.join("results.md"), markdown.into_bytes()),
-        (dir.join("results.csv"), csv),
+        (dir.join("results.csv"), csv(&rows)),
     ];
-    for key in crate::set(rows.iter().map(|r| (&r.scene, r.precision))) {
+    for key in BTreeSet::from_iter(rows.iter().map(|r| (&r.scene, r.precision))) {
         let mine: Vec<&BenchRow> = rows
             .iter()
             .filter(|r| (&r.scene, r.precision) == key)

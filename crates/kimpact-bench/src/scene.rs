@@ -1,16 +1,17 @@
 // The bench scenes and the child's runs, once for 2D/3D and f32/f64
-// (included where `k` is an adapter crate); native and the law modes run
-// the same code, only the `Mode` differs.
+// (included by `worlds.rs` where `k` is an adapter crate).
+
+use std::sync::atomic::Ordering;
 
 use k::math::{DIM, Real, Vector};
-use k::rapier::math::AngVector;
 use k::rapier::prelude::*;
 use k::{Kimpact, Law, LawParams, Mode};
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
 
+use crate::cli::{Cli, Effect, HOOK_NATIVE, Scene};
 use crate::raw::{Measure, Pair, Solo};
-use crate::{AboutZ, Cli, Effect, Scene, alloc, memory};
+use crate::{alloc, memory};
 
 /// A vector with components uniform in `[-speed, speed)`.
 fn random_vector(rng: &mut Xoshiro256PlusPlus, speed: Real) -> Vector {
@@ -116,7 +117,7 @@ impl Bench {
 
     /// `collider`, hooked in native mode under `--hook-native`.
     pub(crate) fn hooked_if_asked(&self, collider: ColliderBuilder) -> ColliderBuilder {
-        if self.kimpact.mode() == Mode::Native && crate::hook_native() {
+        if self.kimpact.mode() == Mode::Native && HOOK_NATIVE.load(Ordering::Relaxed) {
             collider.active_hooks(ActiveHooks::MODIFY_SOLVER_CONTACTS)
         } else {
             collider
@@ -259,7 +260,7 @@ impl Bench {
             let body = RigidBodyBuilder::dynamic()
                 .translation(grid_point(i, side, spacing))
                 .linvel(random_vector(&mut rng, 3.0))
-                .angvel(AngVector::about_z(w))
+                .angvel(about_z(w))
                 .can_sleep(false);
             b.ball(body, r, 1.0, material);
         }
@@ -273,7 +274,7 @@ impl Bench {
         for d in &self.drives {
             let w = d.amplitude * tau / d.period * (tau * self.time / d.period).sin();
             if let Some(rb) = self.world.bodies.get_mut(d.body) {
-                rb.set_angvel(AngVector::about_z(d.sign * w), true);
+                rb.set_angvel(about_z(d.sign * w), true);
             }
         }
         self.kimpact.step_world(&mut self.world, &(), &());

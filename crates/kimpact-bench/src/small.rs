@@ -103,7 +103,7 @@ impl Bench {
         for side in [-1.0, 1.0] {
             let body = RigidBodyBuilder::kinematic_velocity_based()
                 .translation(xy(side * (pivot_x - 0.005), pivot_y + 0.005))
-                .rotation(AngVector::about_z(side * rest));
+                .rotation(about_z(side * rest));
             let collider = cuboid(bar)
                 .translation(xy(-side * 0.5 * length, 0.0))
                 .friction(wall.0)

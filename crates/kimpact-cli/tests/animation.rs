@@ -2,21 +2,12 @@
 //! frames put together are the pictures the CLI draws, in real time; the
 //! page is self-contained and small.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::Path;
 use std::process::Command;
 
-fn scene(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../scenes")
-        .join(name)
-}
-
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("kimpact-anim-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
-}
+use common::{scene, temp_dir};
 
 fn compare(scene_file: &str, extra: &[&str], out: &Path) {
     let o = Command::new(env!("CARGO_BIN_EXE_kimpact"))

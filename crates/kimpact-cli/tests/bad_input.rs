@@ -1,33 +1,9 @@
 //! Bad input end to end: every invalid scene and bad flag exits with code
 //! 2, naming the file and the field, and writes nothing.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn run(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_kimpact"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn scene(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../scenes")
-        .join(name)
-}
-
-/// A fresh, empty temporary directory for one test.
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("kimpact-bad-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
-}
+use common::{kimpact, scene, stderr, temp_dir};
 
 const BALL: &str = r#"{"shape": "ball", "radius": 0.1, "mass": 1, "position": [0, 0]}"#;
 
@@ -105,7 +81,7 @@ fn bad_scenes_exit_2_naming_the_file_and_field_and_write_nothing() {
         let path = dir.join(&file);
         std::fs::write(&path, &text).unwrap();
         let out = dir.join(format!("{file}.report.json"));
-        let o = run(&[
+        let o = kimpact(&[
             "run",
             path.to_str().unwrap(),
             "--out",
@@ -126,7 +102,7 @@ fn bad_scenes_exit_2_naming_the_file_and_field_and_write_nothing() {
         assert!(!out.exists(), "{file}: no report may be written");
         // compare writes nothing either.
         let cdir = dir.join(format!("{file}.compare"));
-        let o = run(&[
+        let o = kimpact(&[
             "compare",
             path.to_str().unwrap(),
             "--out",
@@ -139,7 +115,7 @@ fn bad_scenes_exit_2_naming_the_file_and_field_and_write_nothing() {
         );
     }
     let missing = dir.join("missing.json");
-    let o = run(&["run", missing.to_str().unwrap()]);
+    let o = kimpact(&["run", missing.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("missing.json") && stderr(&o).contains("cannot read"));
 }
@@ -151,7 +127,7 @@ fn an_existing_output_survives_a_bad_scene() {
     std::fs::write(&out, "old report").unwrap();
     let bad = dir.join("bad.json");
     std::fs::write(&bad, r#"{"dim": 5}"#).unwrap();
-    let o = run(&["run", bad.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let o = kimpact(&["run", bad.to_str().unwrap(), "--out", out.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(2));
     assert_eq!(std::fs::read_to_string(&out).unwrap(), "old report");
     let names: Vec<String> = std::fs::read_dir(&dir)
@@ -175,9 +151,9 @@ fn bad_flags_exit_2() {
         vec![],
         vec!["run", c, "--out", "/nonexistent-kimpact-dir/report.json"],
     ] {
-        let o = run(&args);
+        let o = kimpact(&args);
         assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
     }
-    assert_eq!(run(&["--help"]).status.code(), Some(0));
-    assert_eq!(run(&["run", "--help"]).status.code(), Some(0));
+    assert_eq!(kimpact(&["--help"]).status.code(), Some(0));
+    assert_eq!(kimpact(&["run", "--help"]).status.code(), Some(0));
 }

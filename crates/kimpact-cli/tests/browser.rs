@@ -9,38 +9,15 @@
 //! --steps K`'s at step K. Without Chromium the tests say so and pass,
 //! unless `CI` is set: in CI a missing browser is a failure.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use serde_json::Value;
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_kimpact"))
-}
-
-fn scene(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../scenes")
-        .join(name)
-}
-
-/// A fresh, empty temporary directory for one test.
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("kimpact-browser-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
-}
-
-fn kimpact(args: &[&str]) {
-    let o = bin().args(args).output().expect("the binary runs");
-    assert!(
-        o.status.success(),
-        "kimpact {args:?}: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-}
+use common::{MODES, kimpact_ok, scene, temp_dir};
 
 /// The Chromium binary, or `None` (with the reason printed) when there is
 /// none and `CI` is not set.
@@ -324,8 +301,6 @@ fn screenshot_pixels(png: &Path, colours: &[[u8; 3]]) -> (usize, usize) {
     (painted, matching)
 }
 
-const MODES: [&str; 4] = ["native", "restitution", "impulse", "exact"];
-
 /// The bundled break: every step shown, positions at 1 s and at the end
 /// as the reports have them, every ball in its colour, a page under 5 MB,
 /// and a screenshot with the balls on it.
@@ -334,7 +309,7 @@ fn the_break_plays_in_chromium_as_the_reports_say() {
     let Some(chromium) = chromium() else { return };
     let dir = temp_dir("break");
     let out = dir.join("out");
-    kimpact(&[
+    kimpact_ok(&[
         "compare",
         scene("billiards2d.ron").to_str().unwrap(),
         "--out",
@@ -345,7 +320,7 @@ fn the_break_plays_in_chromium_as_the_reports_say() {
     assert!(size < 5_000_000, "compare.html is {size} bytes");
     // 1 s = step 60 of 240.
     for mode in MODES {
-        kimpact(&[
+        kimpact_ok(&[
             "run",
             scene("billiards2d.ron").to_str().unwrap(),
             "--mode",
@@ -413,7 +388,7 @@ fn a_long_gas_run_is_subsampled_and_stated() {
     let dir = temp_dir("gas");
     let out = dir.join("out");
     // 400 disks: 3200 values a step, 156 frames within the budget.
-    kimpact(&[
+    kimpact_ok(&[
         "compare",
         scene("gas2d.toml").to_str().unwrap(),
         "--steps",
@@ -421,7 +396,7 @@ fn a_long_gas_run_is_subsampled_and_stated() {
         "--out",
         out.to_str().unwrap(),
     ]);
-    kimpact(&[
+    kimpact_ok(&[
         "run",
         scene("gas2d.toml").to_str().unwrap(),
         "--mode",
@@ -450,7 +425,7 @@ fn a_3d_cradle_plays_in_chromium() {
     let Some(chromium) = chromium() else { return };
     let dir = temp_dir("cradle3d");
     let out = dir.join("out");
-    kimpact(&[
+    kimpact_ok(&[
         "compare",
         scene("cradle3d.json").to_str().unwrap(),
         "--out",

@@ -3,30 +3,11 @@
 //! for a small restitution asks oblique impacts for more than their normal
 //! motion holds) or rounding, from the dissipation the clamps left unmet.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-use serde_json::Value;
+use std::path::PathBuf;
 
-fn kimpact(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_kimpact"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
-
-fn dir() -> PathBuf {
-    let d = std::env::temp_dir().join(format!("kimpact-clamps-{}", std::process::id()));
-    std::fs::create_dir_all(&d).expect("temp dir");
-    d
-}
-
-fn run(path: &Path, mode: &str) -> (Value, String) {
-    let o = kimpact(&["run", path.to_str().unwrap(), "--mode", mode]);
-    let err = String::from_utf8_lossy(&o.stderr).into_owned();
-    assert!(o.status.success(), "{err}");
-    (serde_json::from_slice(&o.stdout).expect("JSON"), err)
-}
+use common::{kimpact, run_scene, temp_dir, write};
 
 /// Ten pairs of equal balls under the law for e = 0 (f64): a ball at
 /// 1 m/s passes a ball at rest `b = 0.05 + 0.01 k` off its line, an
@@ -48,15 +29,13 @@ fn oblique() -> (PathBuf, f64) {
         let sin2 = (b / 0.2) * (b / 0.2);
         unmet += 0.25 * (sin2 + 1e-6 * (1.0 - sin2));
     }
-    let path = dir().join("oblique.ron");
-    std::fs::write(
-        &path,
+    let path = write(
+        "oblique.ron",
         format!(
             r#"(dim: 2, precision: "f64", steps: 60, law: (restitution: 0.0), bodies: [{}])"#,
             bodies.join(", ")
         ),
-    )
-    .unwrap();
+    );
     (path, unmet)
 }
 
@@ -79,15 +58,13 @@ fn head_on() -> (PathBuf, Vec<(f64, f64)>) {
         ));
         dirs.push((c, s));
     }
-    let path = dir().join("head-on.ron");
-    std::fs::write(
-        &path,
+    let path = write(
+        "head-on.ron",
         format!(
             r#"(dim: 2, precision: "f32", steps: 60, law: (restitution: 0.0), bodies: [{}])"#,
             bodies.join(", ")
         ),
-    )
-    .unwrap();
+    );
     (path, dirs)
 }
 
@@ -99,7 +76,7 @@ fn head_on() -> (PathBuf, Vec<(f64, f64)>) {
 #[test]
 fn a_large_clamped_share_is_explained_in_the_summary_the_terminal_and_the_report() {
     let (path, _) = oblique();
-    let out = dir().join("compare-oblique");
+    let out = temp_dir("compare-oblique");
     let o = kimpact(&[
         "compare",
         path.to_str().unwrap(),
@@ -119,20 +96,18 @@ fn a_large_clamped_share_is_explained_in_the_summary_the_terminal_and_the_report
         }
         assert!(!text.contains("- native:"), "{text}");
     }
-    let (r, err) = run(&path, "exact");
+    let (r, err) = run_scene(&path, "exact");
     let note = r["impacts"]["clamps"].as_str().expect("a note");
     assert!(err.contains(&format!("note: {note}")), "{err}");
 
-    let plastic = dir().join("plastic.ron");
-    std::fs::write(
-        &plastic,
+    let plastic = write(
+        "plastic.ron",
         r#"(dim: 2, precision: "f64", steps: 60, law: (restitution: 0.0), bodies: [
             (shape: "ball", radius: 0.1, mass: 1.0, position: [0.0, 0.0], velocity: [1.0, 0.0]),
             (shape: "ball", radius: 0.1, mass: 1.0, position: [0.5, 0.0])])"#,
-    )
-    .unwrap();
+    );
     for mode in ["restitution", "impulse", "exact"] {
-        let (r, err) = run(&plastic, mode);
+        let (r, err) = run_scene(&plastic, mode);
         assert_eq!(r["impacts"]["count"], 1, "{mode}");
         assert_eq!(r["impacts"]["clamped"], 0, "{mode}");
         assert!(r["impacts"]["clamps"].is_null(), "{mode}");
@@ -151,7 +126,7 @@ fn a_large_clamped_share_is_explained_in_the_summary_the_terminal_and_the_report
 fn the_law_s_clamps_are_told_from_rounding() {
     let (path, unmet) = oblique();
     for mode in ["restitution", "impulse", "exact"] {
-        let (r, _) = run(&path, mode);
+        let (r, _) = run_scene(&path, mode);
         let i = &r["impacts"];
         let note = i["clamps"].as_str().expect("a note");
         assert!(
@@ -170,7 +145,7 @@ fn the_law_s_clamps_are_told_from_rounding() {
     }
     let (path, dirs) = head_on();
     for mode in ["restitution", "impulse", "exact"] {
-        let (r, _) = run(&path, mode);
+        let (r, _) = run_scene(&path, mode);
         let i = &r["impacts"];
         let (count, clamped) = (i["count"].as_u64().unwrap(), i["clamped"].as_u64().unwrap());
         assert!(

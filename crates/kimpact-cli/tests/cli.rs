@@ -1,56 +1,13 @@
 //! The `kimpact` binary end to end: bundled scenes, the report's keys and
 //! meaning, determinism, `compare`'s outputs (bad input: `bad_input.rs`).
 
+mod common;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 use serde_json::Value;
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_kimpact"))
-}
-
-fn scenes_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
-}
-
-fn scene(name: &str) -> PathBuf {
-    scenes_dir().join(name)
-}
-
-/// A fresh, empty temporary directory for one test.
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("kimpact-cli-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
-}
-
-fn run(args: &[&str]) -> Output {
-    bin().args(args).output().expect("the binary runs")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn report(args: &[&str]) -> Value {
-    let o = run(args);
-    assert!(
-        o.status.success(),
-        "kimpact {args:?} failed: {}",
-        stderr(&o)
-    );
-    serde_json::from_slice(&o.stdout).expect("the report is JSON")
-}
-
-fn f(v: &Value) -> f64 {
-    v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"))
-}
-
-fn vecf(v: &Value) -> Vec<f64> {
-    v.as_array().expect("an array").iter().map(f).collect()
-}
+use common::{f, kimpact, report, scene, scenes_dir, stderr, temp_dir, vecf};
 
 fn bundled() -> Vec<PathBuf> {
     let mut all: Vec<PathBuf> = std::fs::read_dir(scenes_dir())
@@ -120,7 +77,7 @@ fn every_bundled_scene_runs_in_every_mode() {
                 assert_eq!(r["impacts"]["count"], 0);
             }
         }
-        let check = run(&["check", p]);
+        let check = kimpact(&["check", p]);
         assert!(check.status.success(), "check {p}: {}", stderr(&check));
     }
 }
@@ -304,7 +261,7 @@ fn reports_are_deterministic_apart_from_timing() {
 fn run_writes_the_report_atomically() {
     let dir = temp_dir("run-out");
     let out = dir.join("report.json");
-    let o = run(&[
+    let o = kimpact(&[
         "run",
         scene("cradle3d.json").to_str().unwrap(),
         "--steps",
@@ -327,7 +284,7 @@ fn run_writes_the_report_atomically() {
 #[test]
 fn compare_writes_reports_summary_plots_and_pictures() {
     let dir = temp_dir("compare").join("cradle");
-    let o = run(&[
+    let o = kimpact(&[
         "compare",
         scene("cradle2d.ron").to_str().unwrap(),
         "--steps",
@@ -405,7 +362,7 @@ fn text_pixels(png: &[u8]) -> [(&'static str, usize); 3] {
 #[test]
 fn compare_png_plots_carry_their_text() {
     let dir = temp_dir("compare-text");
-    let o = run(&[
+    let o = kimpact(&[
         "compare",
         scene("cradle2d.ron").to_str().unwrap(),
         "--steps",
@@ -426,7 +383,7 @@ fn compare_png_plots_carry_their_text() {
 #[test]
 fn compare_draws_3d_scenes() {
     let dir = temp_dir("compare3d");
-    let o = run(&[
+    let o = kimpact(&[
         "compare",
         scene("gas3d.json").to_str().unwrap(),
         "--steps",
@@ -456,7 +413,7 @@ fn effects_decide_what_is_built() {
             ]}"#,
     )
     .unwrap();
-    let o = run(&["run", path.to_str().unwrap()]);
+    let o = kimpact(&["run", path.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stderr(&o).contains("gravity: ignored"), "{}", stderr(&o));
     let r: Value = serde_json::from_slice(&o.stdout).unwrap();
@@ -486,7 +443,7 @@ fn effects_decide_what_is_built() {
 
 #[test]
 fn no_progress_bar_without_a_terminal() {
-    let o = run(&[
+    let o = kimpact(&[
         "run",
         scene("cradle2d.ron").to_str().unwrap(),
         "--steps",

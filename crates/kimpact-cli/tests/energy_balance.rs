@@ -5,39 +5,13 @@
 //! momentum changes in a scene that conserves it, beyond the tolerance the
 //! report states; never for a clean scene.
 
+mod common;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 use serde_json::Value;
 
-const MODES: [&str; 4] = ["native", "restitution", "impulse", "exact"];
-
-/// A fresh, empty temporary directory for one test.
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("kimpact-energy-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
-}
-
-fn kimpact(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_kimpact"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
-
-/// `kimpact run SCENE --mode MODE`: the report and the standard error.
-fn run(path: &Path, mode: &str) -> (Value, String) {
-    let o = kimpact(&["run", path.to_str().unwrap(), "--mode", mode]);
-    let err = String::from_utf8_lossy(&o.stderr).into_owned();
-    assert!(o.status.success(), "{} {mode}: {err}", path.display());
-    (serde_json::from_slice(&o.stdout).expect("JSON"), err)
-}
-
-fn f(v: &Value) -> f64 {
-    v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"))
-}
+use common::{MODES, f, kimpact, run_scene, scene, temp_dir};
 
 fn warnings(r: &Value) -> Vec<String> {
     r["warnings"]
@@ -90,7 +64,7 @@ fn a_free_fall_is_explained_by_the_integrator_in_every_mode() {
         for precision in ["f32", "f64"] {
             let path = free_fall(&dir, dim, precision);
             for mode in MODES {
-                let (r, err) = run(&path, mode);
+                let (r, err) = run_scene(&path, mode);
                 let what = format!("{dim}D {precision} {mode}");
                 let c = &r["checks"];
                 let scale = f(&c["energy_scale"]);
@@ -175,7 +149,7 @@ fn five_balls_falling_490_m_warn_in_no_mode() {
             )
             .unwrap();
             for mode in MODES {
-                let (r, err) = run(&path, mode);
+                let (r, err) = run_scene(&path, mode);
                 let what = format!("{dim}D {precision} {mode}");
                 let y = r["bodies"][0]["position"][1].as_f64().unwrap();
                 assert!((y + 490.5).abs() < 1.0, "{what}: fell to {y}");
@@ -219,7 +193,7 @@ fn warnings_say_what_to_do() {
             ),
         )
         .unwrap();
-        let (r, err) = run(&path, "native");
+        let (r, err) = run_scene(&path, "native");
         let w = warnings(&r);
         assert_eq!(w.len(), 1, "{w:?}");
         let w = &w[0];
@@ -281,7 +255,7 @@ fn the_cradle_warns_in_native_mode_and_clean_scenes_do_not() {
     for precision in ["f64", "f32"] {
         let path = cluster(&dir, precision, 1.0);
         for mode in ["exact", "native"] {
-            let (r, err) = run(&path, mode);
+            let (r, err) = run_scene(&path, mode);
             let c = &r["checks"];
             if mode == "exact" {
                 assert!(
@@ -308,10 +282,10 @@ fn the_cradle_warns_in_native_mode_and_clean_scenes_do_not() {
         }
     }
 
-    let cradle = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cradle2d.ron");
-    let (exact, _) = run(&cradle, "exact");
+    let cradle = scene("cradle2d.ron");
+    let (exact, _) = run_scene(&cradle, "exact");
     assert!(warnings(&exact).is_empty(), "{:?}", exact["warnings"]);
-    let (native, err) = run(&cradle, "native");
+    let (native, err) = run_scene(&cradle, "native");
     let c = &native["checks"];
     let ratio = f(&c["energy_unexplained"]).abs() / f(&c["energy_scale"]);
     println!("cradle, native: energy unexplained {ratio:.3e} of the scale");
@@ -346,7 +320,7 @@ fn momentum_lost_to_sleep_is_warned_about_in_run_and_compare() {
         ])"#,
     )
     .unwrap();
-    let (r, err) = run(&path, "native");
+    let (r, err) = run_scene(&path, "native");
     let c = &r["checks"];
     assert_eq!(c["momentum_conserved"], true);
     assert!(

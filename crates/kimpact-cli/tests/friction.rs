@@ -7,10 +7,11 @@
 //! friction ignored without the `friction` effect; and a scene with impact
 //! friction but no `spin` refused.
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
+mod common;
 
 use serde_json::Value;
+
+use common::{kimpact, report, vecf, write};
 
 /// Billiard ball radius and mass (TP A-14's balls; the law scales out).
 const R: f64 = 0.028575;
@@ -19,39 +20,6 @@ const M: f64 = 0.17;
 const V: f64 = 1.0;
 /// Alciatore's ball–ball friction coefficient.
 const MU: f64 = 0.06;
-
-fn run(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_kimpact"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
-
-fn report(args: &[&str]) -> Value {
-    let o = run(args);
-    assert!(
-        o.status.success(),
-        "kimpact {args:?} failed: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    serde_json::from_slice(&o.stdout).expect("the report is JSON")
-}
-
-fn write(name: &str, text: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("kimpact-friction-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    let path = dir.join(name);
-    std::fs::write(&path, text).expect("write");
-    path
-}
-
-fn vecf(v: &Value) -> Vec<f64> {
-    v.as_array()
-        .expect("an array")
-        .iter()
-        .map(|x| x.as_f64().expect("a number"))
-        .collect()
-}
 
 /// A body's angular velocity about z (2D: the number; 3D: the vector's z,
 /// its x and y checked zero: the cut is in the xy plane).
@@ -248,7 +216,7 @@ fn impact_friction_without_the_friction_effect_is_ignored() {
         &format!("impact_friction: {MU:?}, tangential_restitution: 0.0"),
     );
     let path = write("unlisted.ron", &scene);
-    let o = run(&["run", path.to_str().unwrap(), "--mode", "exact"]);
+    let o = kimpact(&["run", path.to_str().unwrap(), "--mode", "exact"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert!(
@@ -279,7 +247,7 @@ fn impact_friction_without_the_friction_effect_is_ignored() {
 fn a_scene_with_impact_friction_but_no_spin_is_refused() {
     let (scene, _) = cut_shots(3, r#""friction""#, &format!("impact_friction: {MU:?}"));
     let path = write("nospin.ron", &scene);
-    let o = run(&["run", path.to_str().unwrap()]);
+    let o = kimpact(&["run", path.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(2));
     assert!(o.stdout.is_empty());
     let stderr = String::from_utf8_lossy(&o.stderr);
@@ -312,7 +280,7 @@ fn bad_impact_friction_is_refused_by_key() {
     ] {
         let (scene, _) = cut_shots(3, r#""friction", "spin""#, material);
         let path = write("bad.ron", &scene);
-        let o = run(&["run", path.to_str().unwrap()]);
+        let o = kimpact(&["run", path.to_str().unwrap()]);
         assert_eq!(o.status.code(), Some(2), "{material}");
         let stderr = String::from_utf8_lossy(&o.stderr);
         assert!(
@@ -331,7 +299,7 @@ fn allow_fast_rotation_lifts_rapier_s_angular_speed_cap() {
     for (allow, want) in [(true, 100.0), (false, 15.0 * std::f64::consts::PI)] {
         let path = write(
             &format!("fast-{allow}.ron"),
-            &format!(
+            format!(
                 r#"(dim: 3, precision: "f64", steps: 3, effects: ["spin"], bodies: [
                     (shape: "ball", radius: {R:?}, mass: {M:?}, position: [0.0, 0.0, 0.0], angular_velocity: [0.0, 0.0, 100.0], allow_fast_rotation: {allow}),
                 ])"#

@@ -9,11 +9,15 @@
 //! parser is the crate `kimpact-scene`, as in the fuzz target; the command
 //! line is checked end to end for the same inputs (exit code 2, no panic).
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::Path;
 use std::process::Command;
 
 use kimpact_scene as scene;
 use scene::{Scene, SceneError};
+
+use common::write;
 
 const FORMATS: [&str; 3] = ["json", "ron", "toml"];
 
@@ -36,14 +40,6 @@ fn load_err(text: &str, format: &str) -> SceneError {
         Ok(s) => panic!("{format}: accepted {text:?} as {s:?}"),
         Err(e) => e,
     }
-}
-
-fn temp_file(name: &str, bytes: &[u8]) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("kimpact-fuzz-reg-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    let path = dir.join(name);
-    std::fs::write(&path, bytes).expect("write");
-    path
 }
 
 /// `kimpact check FILE`: must fail with exit code 2 and a message, never
@@ -70,7 +66,7 @@ fn json_errors_at_the_start_of_a_line_have_column_1() {
     let e = load_err("\n\n", "json");
     assert_eq!(e.location, Some((3, 1)), "{e}");
     // As the command prints it (`load` names the file).
-    let path = temp_file("empty.json", b"");
+    let path = write("empty.json", b"");
     let e = scene::load(&path).expect_err("empty");
     assert_eq!(
         e.to_string(),
@@ -109,10 +105,7 @@ fn generators_that_overflow_are_rejected() {
             .iter()
             .all(|b| b.position.iter().all(|x| x.is_finite()))
     );
-    check_rejects(
-        &temp_file("overflow.json", position.as_bytes()),
-        "overflows",
-    );
+    check_rejects(&write("overflow.json", position.as_bytes()), "overflows");
 }
 
 // Found by the fuzzer under AddressSanitizer (timeout-2330769f…, > 10 s):
@@ -168,10 +161,7 @@ fn nul_bytes_are_parse_errors_in_every_format() {
             assert!(e.location.is_some(), "{format} {text:?}: {e}");
         }
     }
-    check_rejects(
-        &temp_file("nul.toml", b"dim = 2\0\nsteps = 1\n"),
-        "nul.toml",
-    );
+    check_rejects(&write("nul.toml", b"dim = 2\0\nsteps = 1\n"), "nul.toml");
 }
 
 #[test]
@@ -187,7 +177,7 @@ fn invalid_utf8_is_an_error_not_a_panic() {
             &b"dim = 2\ndescription = \"\xed\xa0\x80\"\n"[..],
         ),
     ] {
-        let path = temp_file(name, bytes);
+        let path = write(name, bytes);
         let e = scene::load(&path).expect_err("invalid UTF-8");
         assert!(e.message.contains("cannot read the file"), "{e}");
         check_rejects(&path, "cannot read the file");
@@ -216,7 +206,7 @@ fn deep_nesting_is_an_error_not_a_stack_overflow() {
     }
     // Also as files, through the binary.
     check_rejects(
-        &temp_file("deep.json", open_close("[", "]").as_bytes()),
+        &write("deep.json", open_close("[", "]").as_bytes()),
         "deep.json",
     );
 }

@@ -4,50 +4,13 @@
 //! newton_cradle3 builds it runs through `run`, `compare` and `check`, and a
 //! bad joint exits 2 naming its index and field.
 
+mod common;
+
 use std::f64::consts::PI;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 use serde_json::Value;
 
-fn kimpact(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_kimpact"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
-
-fn report(args: &[&str]) -> Value {
-    let o = kimpact(args);
-    assert!(
-        o.status.success(),
-        "kimpact {args:?} failed: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    serde_json::from_slice(&o.stdout).expect("the report is JSON")
-}
-
-fn write(name: &str, text: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("kimpact-joints-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    let path = dir.join(name);
-    std::fs::write(&path, text).expect("write");
-    path
-}
-
-fn vecf(v: &Value) -> Vec<f64> {
-    v.as_array()
-        .expect("an array")
-        .iter()
-        .map(|x| x.as_f64().expect("a number"))
-        .collect()
-}
-
-fn cradle() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/newton_cradle3d.ron")
-}
-
-const MODES: [&str; 4] = ["native", "restitution", "impulse", "exact"];
+use common::{MODES, kimpact, report, scene, temp_dir, vecf, write};
 
 /// A ball of radius 0.05 on a massless arm of length L = 1 from a pivot at
 /// the origin, released at rest 0.05 rad from the vertical (f64, 600 Hz):
@@ -77,7 +40,7 @@ fn a_pendulum_swings_over_in_half_its_period_in_2d_and_3d() {
         };
         let path = write(
             &format!("pendulum-{dim}d-{joint}.ron"),
-            &format!(
+            format!(
                 r#"(dim: {dim}, precision: "f64", dt: {dt:?}, steps: {steps}, gravity: {g},
                     bodies: [(shape: "ball", radius: {r:?}, mass: 1.0, position: {pos})],
                     joints: [(kind: "{joint}", body1: "world", anchor1: {origin}, body2: 0, anchor2: {arm}{axis})])"#,
@@ -234,7 +197,7 @@ fn welded_bodies_with_contacts_disabled_do_not_push_each_other() {
 /// moves: 4-5%), and the three balls between stay.
 #[test]
 fn the_jointed_cradle_runs_in_run_compare_and_check() {
-    let path = cradle();
+    let path = scene("newton_cradle3d.ron");
     let p = path.to_str().unwrap();
     let o = kimpact(&["check", p]);
     assert!(o.status.success());
@@ -291,8 +254,7 @@ fn the_jointed_cradle_runs_in_run_compare_and_check() {
         }
     }
 
-    let out = std::env::temp_dir().join(format!("kimpact-joints-compare-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&out);
+    let out = temp_dir("compare");
     let o = kimpact(&[
         "compare",
         p,
@@ -322,7 +284,7 @@ fn a_bad_joint_exits_2_naming_its_index_and_field() {
                     (kind: "spherical", body1: "world", body2: "ball")])"#,
     );
     for cmd in ["run", "check", "compare"] {
-        let out = std::env::temp_dir().join(format!("kimpact-joints-bad-{}", std::process::id()));
+        let out = temp_dir("bad").join("out");
         let mut args = vec![cmd, path.to_str().unwrap()];
         if cmd != "check" {
             args.extend(["--out", out.to_str().unwrap()]);

@@ -2,37 +2,13 @@
 //! law's for the pair's combined constants (rapier's combine rules), in
 //! every law mode, and the three formats read the same materials.
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
+mod common;
 
 use kimpact::nalgebra::Vector2;
 use kimpact::{Body, FixedPartner, Law, LawParams};
 use serde_json::Value;
 
-fn run(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_kimpact"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
-
-fn report(args: &[&str]) -> Value {
-    let o = run(args);
-    assert!(
-        o.status.success(),
-        "kimpact {args:?} failed: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    serde_json::from_slice(&o.stdout).expect("the report is JSON")
-}
-
-fn write(name: &str, text: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("kimpact-materials-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    let path = dir.join(name);
-    std::fs::write(&path, text).expect("write");
-    path
-}
+use common::{kimpact, report, write};
 
 /// Five head-on pairs (left ball at 1 m/s onto a ball at rest, masses 1
 /// and 2) and three balls thrown at walls, one row each, far apart: every
@@ -323,7 +299,7 @@ fn an_unused_material_is_a_warning_and_f64_holds_what_f32_cannot() {
         "materials": {"spare": {"dissipation": 0.1}},
         "bodies": [{"shape": "ball", "radius": 0.1, "mass": 1, "position": [0, 0]}]}"#;
     let path = write("spare.json", text);
-    let o = run(&["check", path.to_str().unwrap()]);
+    let o = kimpact(&["check", path.to_str().unwrap()]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{err}");
     assert!(err.contains("materials.spare: no body uses it"), "{err}");

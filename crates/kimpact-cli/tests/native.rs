@@ -4,32 +4,14 @@
 //! here as rapier's example builds it; and every setting the command adds
 //! beyond the scene is named in the report's `setup.added`.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+mod common;
+
+use std::path::Path;
 
 use kimpact3d::rapier::prelude::*;
 use serde_json::Value;
 
-fn report(args: &[&str]) -> Value {
-    let o = Command::new(env!("CARGO_BIN_EXE_kimpact"))
-        .args(args)
-        .output()
-        .expect("the binary runs");
-    assert!(
-        o.status.success(),
-        "kimpact {args:?} failed: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    serde_json::from_slice(&o.stdout).expect("the report is JSON")
-}
-
-fn f(v: &Value) -> f64 {
-    v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"))
-}
-
-fn scene() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/restitution3d.ron")
-}
+use common::{f, kimpact_ok, report, scene, temp_dir, write};
 
 /// rapier's examples3d/restitution3.rs, stepped `steps` times with
 /// rapier's defaults (dt 1/60, gravity −9.81 y): the final kinetic energy
@@ -82,7 +64,7 @@ fn plain_rapier(steps: usize) -> f64 {
 /// body, rotations locked), it would not.
 #[test]
 fn the_restitution3_port_ends_with_plain_rapier_s_energy() {
-    let path = scene();
+    let path = scene("restitution3d.ron");
     let p = path.to_str().unwrap();
     for steps in [120usize, 600] {
         let s = steps.to_string();
@@ -106,10 +88,7 @@ fn the_restitution3_port_ends_with_plain_rapier_s_energy() {
             "    mode: \"exact\",\n    auto_ccd: true,\n    effects: [\"gravity\", \"friction\", \"fixed_walls\"],\n",
             1,
         );
-        let dir = std::env::temp_dir().join(format!("kimpact-native-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let locked = dir.join("locked.ron");
-        std::fs::write(&locked, text).unwrap();
+        let locked = write("locked.ron", text);
         let r = report(&[
             "run",
             locked.to_str().unwrap(),
@@ -156,30 +135,20 @@ fn the_restitution3_port_ends_with_plain_rapier_s_energy() {
 /// mode shares and each mode's own, or says there are none.
 #[test]
 fn the_summary_names_the_settings_the_command_adds() {
-    let dir = std::env::temp_dir().join(format!("kimpact-native-summary-{}", std::process::id()));
+    let dir = temp_dir("summary");
     let summary = |scene: &Path, name: &str| {
         let out = dir.join(name);
-        let o = Command::new(env!("CARGO_BIN_EXE_kimpact"))
-            .args([
-                "compare",
-                scene.to_str().unwrap(),
-                "--steps",
-                "3",
-                "--out",
-                out.to_str().unwrap(),
-            ])
-            .output()
-            .expect("the binary runs");
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let (scene, out_dir) = (scene.to_str().unwrap(), out.to_str().unwrap());
+        kimpact_ok(&["compare", scene, "--steps", "3", "--out", out_dir]);
         std::fs::read_to_string(out.join("summary.md")).unwrap()
     };
-    let s = summary(&scene(), "restitution3d");
+    let s = summary(&scene("restitution3d.ron"), "restitution3d");
     assert!(s.contains("## Settings the command adds"), "{s}");
     assert!(
         s.contains("None: every mode runs the scene's bodies as rapier builds them."),
         "{s}"
     );
-    let billiards = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/billiards2d.ron");
+    let billiards = scene("billiards2d.ron");
     let s = summary(&billiards, "billiards2d");
     assert!(
         s.contains("- every mode: rotations locked on 16 moving bodies"),

@@ -4,31 +4,11 @@
 //! body's own `restitution` gives its bounce when the scene sets no law
 //! constant, in every law mode.
 
-use std::path::PathBuf;
-use std::process::Command;
+mod common;
 
 use serde_json::Value;
 
-fn report(args: &[&str]) -> Value {
-    let o = Command::new(env!("CARGO_BIN_EXE_kimpact"))
-        .args(args)
-        .output()
-        .expect("the binary runs");
-    assert!(
-        o.status.success(),
-        "kimpact {args:?} failed: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    serde_json::from_slice(&o.stdout).expect("the report is JSON")
-}
-
-fn write(name: &str, text: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("kimpact-restitution-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    let path = dir.join(name);
-    std::fs::write(&path, text).expect("write");
-    path
-}
+use common::{report, write};
 
 fn vx(r: &Value, body: usize) -> f64 {
     r["bodies"][body]["velocity"][0].as_f64().expect("a number")
@@ -85,7 +65,7 @@ fn materials_and_law_from_restitutions_give_them_in_the_reference_impacts() {
     ]);
     let path = write(
         "materials.ron",
-        &format!(
+        format!(
             r#"(dim: 2, precision: "f64", steps: 90,
                 law: (restitution: 0.3, wall_restitution: 0.7),
                 materials: {{"steel": (restitution: 0.8, wall_restitution: 0.9), "clay": (restitution: 0.2)}},
@@ -110,11 +90,11 @@ fn a_body_s_restitution_is_its_law_s_when_the_scene_sets_none() {
     let bodies = rows(&[[&r(0.6), &r(0.8), &r(0.5)], [&r(0.3), &r(0.3), ""]]);
     let speaks = write(
         "speaks.ron",
-        &format!(r#"(dim: 2, precision: "f64", steps: 90, bodies: [{bodies}])"#),
+        format!(r#"(dim: 2, precision: "f64", steps: 90, bodies: [{bodies}])"#),
     );
     let quiet = write(
         "quiet.ron",
-        &format!(
+        format!(
             r#"(dim: 2, precision: "f64", steps: 90, law: (dissipation: 0.0), bodies: [{bodies}])"#
         ),
     );

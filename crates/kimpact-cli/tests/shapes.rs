@@ -4,41 +4,9 @@
 //! their geometry says; the bundled dominoes topple and the dice settle in
 //! their box, in every mode.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+mod common;
 
-use serde_json::Value;
-
-const MODES: [&str; 4] = ["native", "restitution", "impulse", "exact"];
-
-fn report(args: &[&str]) -> Value {
-    let o = Command::new(env!("CARGO_BIN_EXE_kimpact"))
-        .args(args)
-        .output()
-        .expect("the binary runs");
-    assert!(
-        o.status.success(),
-        "kimpact {args:?} failed: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    serde_json::from_slice(&o.stdout).expect("the report is JSON")
-}
-
-fn write(name: &str, text: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("kimpact-shapes-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    let path = dir.join(name);
-    std::fs::write(&path, text).expect("write");
-    path
-}
-
-fn f(v: &Value) -> f64 {
-    v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"))
-}
-
-fn vecf(v: &Value) -> Vec<f64> {
-    v.as_array().expect("an array").iter().map(f).collect()
-}
+use common::{MODES, f, report, scene, vecf, write};
 
 /// A lone box spinning in free space (f64, no gravity) for 1 s, `N` = 240
 /// substeps of `h`: the report's rotation is what rapier's linearised
@@ -151,12 +119,6 @@ fn capsules_and_convex_shapes_rest_where_their_geometry_says() {
     }
 }
 
-fn bundled(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../scenes")
-        .join(name)
-}
-
 /// The bundled dominoes: the first is tipped, and every one of the 20 ends
 /// lying against the next (turned by more than 1 rad), in every mode. The
 /// bundled dice: thrown spinning into a closed box, they end at rest on its
@@ -166,7 +128,7 @@ fn the_dominoes_topple_and_the_dice_settle() {
     for mode in MODES {
         let r = report(&[
             "run",
-            bundled("dominoes2d.ron").to_str().unwrap(),
+            scene("dominoes2d.ron").to_str().unwrap(),
             "--mode",
             mode,
         ]);
@@ -174,12 +136,7 @@ fn the_dominoes_topple_and_the_dice_settle() {
             let turn = f(&r["bodies"][b]["rotation"]);
             assert!(turn < -1.0, "{mode}: domino {} turned {turn}", b - 1);
         }
-        let r = report(&[
-            "run",
-            bundled("dice3d.ron").to_str().unwrap(),
-            "--mode",
-            mode,
-        ]);
+        let r = report(&["run", scene("dice3d.ron").to_str().unwrap(), "--mode", mode]);
         assert_eq!(r["checks"]["escaped"], 0, "{mode}");
         for b in 6..24 {
             let x = vecf(&r["bodies"][b]["position"]);

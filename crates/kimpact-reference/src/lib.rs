@@ -81,11 +81,13 @@ struct ReadmeDoctests;
 mod error;
 mod grid;
 mod kinematics;
+mod model;
 mod queue;
 mod sim;
 
 pub use error::{Quantity, ReferenceError};
-pub use sim::{Ball, BoxBounds, MAX_BALLS, OVERLAP_TOLERANCE, Reference, StallGuard, Stats};
+pub use model::{Ball, BoxBounds, StallGuard, Stats};
+pub use sim::{MAX_BALLS, OVERLAP_TOLERANCE, Reference};
 
 /// Re-export of the kimpact law this crate applies.
 pub use kimpact;

@@ -25,15 +25,9 @@ pub use file::{
 };
 pub use kimpact::{FixedPartner, Mode, Precision};
 pub use model::{
-    Body, CombineRule, Effect, Joint, JointEnd, JointKind, Material, ParseCombineRuleError, Scene,
-    SceneError, View,
+    Body, CombineRule, Effect, Joint, JointEnd, JointKind, MAX_BODIES, MAX_STEPS, Material,
+    ParseCombineRuleError, Scene, SceneError, View,
 };
 pub use parse::{load, parse};
 pub use shape::{Shape, rotate};
 pub use validate::validate;
-
-/// The most bodies a scene may have.
-pub const MAX_BODIES: usize = 200_000;
-
-/// The most steps a scene may ask for.
-pub const MAX_STEPS: u64 = 100_000_000;

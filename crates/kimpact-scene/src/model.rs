@@ -5,7 +5,13 @@ use std::fmt;
 
 use kimpact::LawParams;
 
-use crate::{Mode, Precision, Shape};
+use crate::{Mode, Precision, Shape, rotate};
+
+/// The most bodies a scene may have.
+pub const MAX_BODIES: usize = 200_000;
+
+/// The most steps a scene may ask for.
+pub const MAX_STEPS: u64 = 100_000_000;
 
 /// A scene that failed to load.
 #[derive(Debug, Clone, PartialEq)]
@@ -138,6 +144,64 @@ pub struct Body {
     /// law): a named one, or the one its written `restitution` stands for
     /// (see [`Material::named`]).
     pub material: Option<usize>,
+}
+
+impl Body {
+    /// Whether the body starts turned (a non-zero `rotation`).
+    pub fn rotated(&self) -> bool {
+        self.rotation.iter().any(|x| *x != 0.0)
+    }
+
+    /// The bounding box of the shape as the body starts (at its position,
+    /// turned by its rotation): lower and upper corners.
+    pub fn aabb(&self, dim: usize) -> (Vec<f64>, Vec<f64>) {
+        let mut lo = self.position.clone();
+        let mut hi = self.position.clone();
+        let mut grow = |v: &[f64], pad: f64| {
+            for k in 0..dim {
+                lo[k] = lo[k].min(self.position[k] + v[k] - pad);
+                hi[k] = hi[k].max(self.position[k] + v[k] + pad);
+            }
+        };
+        match &self.shape {
+            Shape::Ball { radius } => grow(&vec![0.0; dim], *radius),
+            Shape::Capsule {
+                half_height,
+                radius,
+            } => {
+                let mut axis = vec![0.0; dim];
+                axis[1] = *half_height;
+                let end = rotate(&self.rotation, &axis);
+                let other: Vec<f64> = end.iter().map(|x| -x).collect();
+                grow(&end, *radius);
+                grow(&other, *radius);
+            }
+            shape => {
+                for p in shape.outline(dim) {
+                    grow(&rotate(&self.rotation, &p), 0.0);
+                }
+            }
+        }
+        (lo, hi)
+    }
+
+    /// Half extents of a box centred on the body's position that holds the
+    /// shape as the body starts (turned by its rotation).
+    pub fn half_box(&self, dim: usize) -> Vec<f64> {
+        let (lo, hi) = self.aabb(dim);
+        (0..dim)
+            .map(|k| (self.position[k] - lo[k]).max(hi[k] - self.position[k]))
+            .collect()
+    }
+
+    /// A point given in the body's frame, in the world as the body starts.
+    pub fn to_world(&self, local: &[f64]) -> Vec<f64> {
+        self.position
+            .iter()
+            .zip(rotate(&self.rotation, local))
+            .map(|(p, x)| p + x)
+            .collect()
+    }
 }
 
 /// A validated material: constants checked in the scene's precision, as the

@@ -3,8 +3,6 @@
 
 use kimpact::nalgebra::{Rotation2, Rotation3, Vector3};
 
-use crate::Body;
-
 /// A body's shape, in the body's own frame.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Shape {
@@ -167,64 +165,6 @@ pub fn rotate(rotation: &[f64], v: &[f64]) -> Vec<f64> {
             vec![r.x, r.y, r.z]
         }
         _ => v.to_vec(),
-    }
-}
-
-impl Body {
-    /// Whether the body starts turned (a non-zero `rotation`).
-    pub fn rotated(&self) -> bool {
-        self.rotation.iter().any(|x| *x != 0.0)
-    }
-
-    /// The bounding box of the shape as the body starts (at its position,
-    /// turned by its rotation): lower and upper corners.
-    pub fn aabb(&self, dim: usize) -> (Vec<f64>, Vec<f64>) {
-        let mut lo = self.position.clone();
-        let mut hi = self.position.clone();
-        let mut grow = |v: &[f64], pad: f64| {
-            for k in 0..dim {
-                lo[k] = lo[k].min(self.position[k] + v[k] - pad);
-                hi[k] = hi[k].max(self.position[k] + v[k] + pad);
-            }
-        };
-        match &self.shape {
-            Shape::Ball { radius } => grow(&vec![0.0; dim], *radius),
-            Shape::Capsule {
-                half_height,
-                radius,
-            } => {
-                let mut axis = vec![0.0; dim];
-                axis[1] = *half_height;
-                let end = rotate(&self.rotation, &axis);
-                let other: Vec<f64> = end.iter().map(|x| -x).collect();
-                grow(&end, *radius);
-                grow(&other, *radius);
-            }
-            shape => {
-                for p in shape.outline(dim) {
-                    grow(&rotate(&self.rotation, &p), 0.0);
-                }
-            }
-        }
-        (lo, hi)
-    }
-
-    /// Half extents of a box centred on the body's position that holds the
-    /// shape as the body starts (turned by its rotation).
-    pub fn half_box(&self, dim: usize) -> Vec<f64> {
-        let (lo, hi) = self.aabb(dim);
-        (0..dim)
-            .map(|k| (self.position[k] - lo[k]).max(hi[k] - self.position[k]))
-            .collect()
-    }
-
-    /// A point given in the body's frame, in the world as the body starts.
-    pub fn to_world(&self, local: &[f64]) -> Vec<f64> {
-        self.position
-            .iter()
-            .zip(rotate(&self.rotation, local))
-            .map(|(p, x)| p + x)
-            .collect()
     }
 }
 

@@ -3,8 +3,6 @@
 
 use nalgebra::{RealField, SVector};
 
-#[cfg(doc)]
-use crate::FixedPartner;
 use crate::error::{LawError, Which};
 use crate::num::{half, to_f64};
 
@@ -14,7 +12,8 @@ pub enum Mass<T> {
     /// A finite, positive mass.
     Finite(T),
     /// A fixed or kinematic body: its velocity is prescribed and the impact
-    /// does not change it. See [`FixedPartner`] for how the law treats it.
+    /// does not change it. See [`FixedPartner`](crate::FixedPartner) for
+    /// how the law treats it.
     Infinite,
 }
 

@@ -6,8 +6,6 @@ use nalgebra::RealField;
 
 use crate::error::LawError;
 use crate::num::{half, to_f64};
-#[cfg(doc)]
-use crate::{CLAMP_TOLERANCE, Law};
 
 /// How the law treats a partner of infinite mass (a fixed or kinematic body:
 /// a wall, a cushion, a floor, a paddle).
@@ -70,7 +68,8 @@ impl core::str::FromStr for FixedPartner {
 }
 
 /// The law's parameters, as plain data (for configuration files). Turn them
-/// into a [`Law`] with [`Law::new`], which checks them.
+/// into a [`Law`](crate::Law) with [`Law::new`](crate::Law::new), which
+/// checks them.
 #[derive(Copy, Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(
@@ -115,7 +114,8 @@ impl<T: RealField + Copy> Default for LawParams<T> {
 impl<T> LawParams<T> {
     /// The same parameters with each constant converted by `f` (a scene
     /// file's `f64` to an `f32` build's scalar, say). Nothing is checked
-    /// here: [`Law::new`] checks the result, as any parameters.
+    /// here: [`Law::new`](crate::Law::new) checks the result, as any
+    /// parameters.
     ///
     /// ```
     /// use kimpact::{Law, LawParams};
@@ -143,8 +143,8 @@ impl<T: RealField + Copy> LawParams<T> {
     /// - `ball_restitution`: two bodies of **equal mass** meeting
     ///   **head-on** (their relative velocity along the normal, no
     ///   tangential part). The law's `e = sqrt(1 − q)` with
-    ///   `q = 2 d̃ ρ (t + 2 + 1/t)` (see [`Law`]) has `t = 1` and `ρ = 1`
-    ///   there, so `e = sqrt(1 − 8 d̃)` and
+    ///   `q = 2 d̃ ρ (t + 2 + 1/t)` (see [`Law`](crate::Law)) has `t = 1` and
+    ///   `ρ = 1` there, so `e = sqrt(1 − 8 d̃)` and
     ///
     ///   ```text
     ///   d̃ = (1 − e_ball²) / 8.
@@ -177,9 +177,9 @@ impl<T: RealField + Copy> LawParams<T> {
     /// e = sqrt(1 − (1 − e_wall²) / cos²θ)                      against a wall,
     /// ```
     ///
-    /// clamped (to `e = 1e-3`, see [`CLAMP_TOLERANCE`]) where the root would
-    /// be negative: with `e_ball = 0.8` a head-on impact of masses 1:10 is
-    /// already clamped. `docs/restitution.md` tabulates `e` over mass ratio
+    /// clamped (to `e = 1e-3`, see [`CLAMP_TOLERANCE`](crate::CLAMP_TOLERANCE))
+    /// where the root would be negative: with `e_ball = 0.8` a head-on impact
+    /// of masses 1:10 is already clamped. `docs/restitution.md` tabulates `e` over mass ratio
     /// and angle.
     ///
     /// # Why a law for small `e` clamps oblique impacts

@@ -31,14 +31,23 @@ impl<const D: usize> Backend<D> {
     }
 }
 
-/// The rapier side, written once for the four adapter builds.
+/// The rapier side, written once for the four adapter builds: the
+/// [`Backend`] `$name` of the adapter crate `$krate` (dimension `$dim`).
 macro_rules! rapier_backend {
-    ($module:ident, $krate:ident, $dim:literal) => {
+    ($name:ident, $module:ident, $label:literal, $precision:ident, $krate:ident, $dim:literal) => {
+        #[doc = concat!("The ", stringify!($krate), " (", $label, ") build of the adapter.")]
+        pub const $name: Backend<$dim> = Backend {
+            label: $label,
+            precision: Precision::$precision,
+            make: |setup, mode| Ok(Box::new($module::World::new(setup, mode)?)),
+        };
+
         mod $module {
             use std::collections::{HashMap, HashSet};
             use std::time::Instant;
 
-            use crate::{HarnessError, Setup, Sim, State, Totals, V};
+            use crate::{HarnessError, Setup, Sim, State, V};
+            use kimpact_reference::Stats;
             use k::math::{Real, Vector};
             use k::rapier::prelude::*;
             use k::{Kimpact, Law, LawParams, Mode};
@@ -48,9 +57,7 @@ macro_rules! rapier_backend {
 
             fn to_rapier(x: &V<D>) -> Vector {
                 let mut v = Vector::ZERO;
-                for i in 0..D {
-                    v[i] = x[i] as Real;
-                }
+                (0..D).for_each(|i| v[i] = x[i] as Real);
                 v
             }
 
@@ -61,14 +68,12 @@ macro_rules! rapier_backend {
             pub struct World {
                 world: PhysicsWorld,
                 kimpact: Kimpact,
-                mode: Mode,
                 balls: Vec<RigidBodyHandle>,
-                /// Wall colliders with their `(axis, side)`.
-                walls: Vec<(ColliderHandle, usize, usize)>,
-                wall_of: HashMap<ColliderHandle, (usize, usize)>,
+                /// Each wall collider's `(axis, side)`.
+                walls: HashMap<ColliderHandle, (usize, usize)>,
                 /// Native: pairs that carried an impulse at the last step.
                 pushing: HashSet<(ColliderHandle, ColliderHandle)>,
-                totals: Totals<D>,
+                totals: Stats<D>,
                 steps: u64,
                 dt: f64,
                 busy: f64,
@@ -76,20 +81,14 @@ macro_rules! rapier_backend {
                 impulse_sum: f64,
             }
 
-            /// This build of rapier on `setup`, with kimpact in `mode`.
-            pub fn make(setup: &Setup<D>, mode: Mode) -> Result<Box<dyn Sim<D>>, HarnessError> {
-                Ok(Box::new(World::new(setup, mode)?))
-            }
-
             impl World {
-                fn new(setup: &Setup<D>, mode: Mode) -> Result<Self, HarnessError> {
+                /// This build of rapier on `setup`, with kimpact in `mode`.
+                pub fn new(setup: &Setup<D>, mode: Mode) -> Result<Self, HarnessError> {
                     let mut world = PhysicsWorld::new();
                     world.gravity = Vector::ZERO;
                     world.integration_parameters.dt = setup.dt as Real;
-                    let law = Law::new(LawParams {
-                        dissipation: setup.dissipation as Real,
-                        ..Default::default()
-                    })?;
+                    let dissipation = setup.dissipation as Real;
+                    let law = Law::new(LawParams { dissipation, ..Default::default() })?;
                     let mut kimpact = Kimpact::new(law, mode);
                     // Native rapier gets the law's head-on restitution for
                     // equal masses (q = 8 d̃) between balls and its wall
@@ -98,66 +97,44 @@ macro_rules! rapier_backend {
                     let d = setup.dissipation;
                     let e_ball = (1.0 - 8.0 * d).max(0.0).sqrt();
                     let e_wall = ((1.0 - 2.0 * d).max(0.0).sqrt() * 2.0 - e_ball).clamp(0.0, 1.0);
-                    let mut walls = Vec::new();
-                    let mut wall_of = HashMap::new();
-                    if setup.walls {
-                        let (lo, hi) = (setup.bounds.lo, setup.bounds.hi);
-                        let centre = (lo + hi) * 0.5;
-                        let half = (hi - lo) * 0.5;
-                        let t = 1.0;
-                        for axis in 0..D {
-                            for side in 0..2 {
-                                let mut c = centre;
-                                c[axis] = if side == 0 {
-                                    lo[axis] - t
-                                } else {
-                                    hi[axis] + t
-                                };
-                                let mut he = half.add_scalar(2.0 * t);
-                                he[axis] = t;
-                                let body = world.insert_body(
-                                    RigidBodyBuilder::fixed().translation(to_rapier(&c)),
-                                );
-                                let he = k::rapier::parry::shape::Cuboid::new(to_rapier(&he));
-                                let collider = ColliderBuilder::new(SharedShape::new(he))
-                                    .friction(0.0)
-                                    .restitution(e_wall as Real);
-                                let handle = world.insert_collider(collider, Some(body));
-                                walls.push((handle, axis, side));
-                                wall_of.insert(handle, (axis, side));
-                            }
-                        }
+                    let mut walls = HashMap::new();
+                    let (lo, hi) = (setup.bounds.lo, setup.bounds.hi);
+                    let (centre, half, t) = ((lo + hi) * 0.5, (hi - lo) * 0.5, 1.0);
+                    for (axis, side) in (0..D).flat_map(|a| [(a, 0), (a, 1)]).filter(|_| setup.walls) {
+                        let mut c = centre;
+                        c[axis] = if side == 0 { lo[axis] - t } else { hi[axis] + t };
+                        let mut he = half.add_scalar(2.0 * t);
+                        he[axis] = t;
+                        let body = world.insert_body(RigidBodyBuilder::fixed().translation(to_rapier(&c)));
+                        let he = k::rapier::parry::shape::Cuboid::new(to_rapier(&he));
+                        let collider = ColliderBuilder::new(SharedShape::new(he))
+                            .friction(0.0)
+                            .restitution(e_wall as Real);
+                        walls.insert(world.insert_collider(collider, Some(body)), (axis, side));
                     }
-                    let balls: Result<Vec<_>, HarnessError> = setup
-                        .balls
-                        .iter()
-                        .map(|b| {
-                            let body = RigidBodyBuilder::dynamic()
-                                .translation(to_rapier(&b.position))
-                                .linvel(to_rapier(&b.velocity))
-                                .can_sleep(false);
-                            let collider = ColliderBuilder::ball(b.radius as Real)
-                                .mass(b.mass as Real)
-                                .friction(0.0)
-                                .restitution(e_ball as Real);
-                            let (handle, c) = world.insert(body, collider);
-                            kimpact
-                                .mark(&world.colliders, c)
-                                .map_err(|e| HarnessError::Mark(e.to_string()))?;
-                            Ok(handle)
-                        })
-                        .collect();
-                    let balls = balls?;
+                    let mut balls = Vec::new();
+                    for b in &setup.balls {
+                        let body = RigidBodyBuilder::dynamic()
+                            .translation(to_rapier(&b.position))
+                            .linvel(to_rapier(&b.velocity))
+                            .can_sleep(false);
+                        let collider = ColliderBuilder::ball(b.radius as Real)
+                            .mass(b.mass as Real)
+                            .friction(0.0)
+                            .restitution(e_ball as Real);
+                        let (handle, c) = world.insert(body, collider);
+                        let marked = kimpact.mark(&world.colliders, c);
+                        marked.map_err(|e| HarnessError::Mark(e.to_string()))?;
+                        balls.push(handle);
+                    }
                     let dt = f64::from(world.integration_parameters.dt);
                     Ok(Self {
                         world,
                         kimpact,
-                        mode,
                         balls,
                         walls,
-                        wall_of,
                         pushing: HashSet::new(),
-                        totals: Totals::zero(),
+                        totals: Stats::default(),
                         steps: 0,
                         dt,
                         busy: 0.0,
@@ -167,13 +144,8 @@ macro_rules! rapier_backend {
                 }
 
                 fn momentum(&self) -> V<D> {
-                    self.balls
-                        .iter()
-                        .map(|&h| {
-                            let b = &self.world.bodies[h];
-                            from_rapier(b.linvel()) * f64::from(b.mass())
-                        })
-                        .sum()
+                    let bodies = self.balls.iter().map(|&h| &self.world.bodies[h]);
+                    bodies.map(|b| from_rapier(b.linvel()) * f64::from(b.mass())).sum()
                 }
 
                 fn step(&mut self) {
@@ -185,58 +157,48 @@ macro_rules! rapier_backend {
                     let mut impulse = [[0.0f64; 2]; D];
                     // The impulses rapier's solver applied to the walls (in
                     // the law modes: the contacts rapier kept).
-                    for &(c, axis, side) in &self.walls {
+                    for (&c, &(axis, side)) in &self.walls {
                         for cp in self.world.narrow_phase.contact_pairs_with(c) {
                             if cp.has_any_active_contact() {
                                 impulse[axis][side] += f64::from(cp.total_impulse()[axis]).abs();
                             }
                         }
                     }
-                    match self.mode {
-                        Mode::Native => {
-                            // An impact: a pair that carries an impulse now
-                            // and did not at the previous step.
-                            let mut now = HashSet::new();
-                            for cp in self.world.narrow_phase.contact_pairs() {
-                                if cp.has_any_active_contact() && cp.total_impulse_magnitude() > 0.0
-                                {
-                                    let key = (cp.collider1, cp.collider2);
-                                    if !self.pushing.contains(&key) {
-                                        if self.wall_of.contains_key(&cp.collider1)
-                                            || self.wall_of.contains_key(&cp.collider2)
-                                        {
-                                            self.totals.wall_impacts += 1;
-                                        } else {
-                                            self.totals.ball_impacts += 1;
-                                        }
-                                    }
-                                    now.insert(key);
-                                }
+                    let wall = |c1, c2| self.walls.get(&c1).or(self.walls.get(&c2)).copied();
+                    if self.kimpact.mode() == Mode::Native {
+                        // An impact: a pair that carries an impulse now and
+                        // did not at the previous step.
+                        let mut now = HashSet::new();
+                        for cp in self.world.narrow_phase.contact_pairs() {
+                            let key = (cp.collider1, cp.collider2);
+                            if !(cp.has_any_active_contact() && cp.total_impulse_magnitude() > 0.0) {
+                                continue;
                             }
-                            self.pushing = now;
-                        }
-                        Mode::Restitution | Mode::Impulse | Mode::Exact => {
-                            for e in self.kimpact.events() {
-                                let wall = self
-                                    .wall_of
-                                    .get(&e.collider1)
-                                    .or(self.wall_of.get(&e.collider2));
-                                match wall {
-                                    Some(&(axis, side)) => {
-                                        self.totals.wall_impacts += 1;
-                                        // rapier's solver applied it: counted above.
-                                        if !e.by_solver {
-                                            impulse[axis][side] += f64::from(e.impulse).abs();
-                                        }
-                                    }
+                            if !self.pushing.contains(&key) {
+                                match wall(cp.collider1, cp.collider2) {
+                                    Some(_) => self.totals.wall_impacts += 1,
                                     None => self.totals.ball_impacts += 1,
                                 }
+                            }
+                            now.insert(key);
+                        }
+                        self.pushing = now;
+                    } else {
+                        for e in self.kimpact.events() {
+                            match wall(e.collider1, e.collider2) {
+                                Some((axis, side)) => {
+                                    self.totals.wall_impacts += 1;
+                                    // rapier's solver applied it: counted above.
+                                    if !e.by_solver {
+                                        impulse[axis][side] += f64::from(e.impulse).abs();
+                                    }
+                                }
+                                None => self.totals.ball_impacts += 1,
                             }
                         }
                     }
                     let dp = self.momentum() - p0;
-                    for axis in 0..D {
-                        let [lo, hi] = impulse[axis];
+                    for (axis, [lo, hi]) in impulse.into_iter().enumerate() {
                         self.residual += (dp[axis] - (lo - hi)).abs();
                         self.impulse_sum += lo + hi;
                         self.totals.wall_impulse[axis][0] += lo;
@@ -263,40 +225,35 @@ macro_rules! rapier_backend {
                 }
 
                 fn state(&self) -> State<D> {
-                    self.balls
-                        .iter()
-                        .map(|&h| {
-                            let b = &self.world.bodies[h];
-                            (from_rapier(b.translation()), from_rapier(b.linvel()))
-                        })
-                        .collect()
+                    let bodies = self.balls.iter().map(|&h| &self.world.bodies[h]);
+                    bodies.map(|b| (from_rapier(b.translation()), from_rapier(b.linvel()))).collect()
                 }
 
-                fn totals(&self) -> Totals<D> {
+                fn totals(&self) -> Stats<D> {
                     self.totals
                 }
 
-                fn busy(&self) -> (f64, u64) {
-                    (self.busy, self.steps)
+                fn ms_per_step(&self) -> f64 {
+                    match self.steps {
+                        0 => f64::NAN,
+                        n => 1e3 * self.busy / n as f64,
+                    }
                 }
 
                 fn diagnostics(&self) -> Option<String> {
                     let s = self.kimpact.stats();
-                    if s.event_cap_hits > 0 || s.skipped_non_finite > 0 {
-                        Some(format!(
+                    (s.event_cap_hits > 0 || s.skipped_non_finite > 0).then(|| {
+                        format!(
                             "{} step(s) hit the exact mode's event cap ({} law impacts in all), {} pair(s) skipped for non-finite data",
                             s.event_cap_hits, s.impacts, s.skipped_non_finite
-                        ))
-                    } else {
-                        None
-                    }
+                        )
+                    })
                 }
 
                 fn impulse_residual(&self) -> f64 {
-                    if self.impulse_sum > 0.0 {
-                        self.residual / self.impulse_sum
-                    } else {
-                        0.0
+                    match self.impulse_sum > 0.0 {
+                        true => self.residual / self.impulse_sum,
+                        false => 0.0,
                     }
                 }
             }
@@ -304,32 +261,7 @@ macro_rules! rapier_backend {
     };
 }
 
-rapier_backend!(rapier2d_f32, kimpact2d, 2);
-rapier_backend!(rapier3d_f32, kimpact3d, 3);
-rapier_backend!(rapier2d_f64, kimpact2d_f64, 2);
-rapier_backend!(rapier3d_f64, kimpact3d_f64, 3);
-
-/// The kimpact2d (2D, f32) build of the adapter.
-pub const B2_F32: Backend<2> = Backend {
-    label: "2D f32",
-    precision: Precision::F32,
-    make: rapier2d_f32::make,
-};
-/// The kimpact3d (3D, f32) build of the adapter.
-pub const B3_F32: Backend<3> = Backend {
-    label: "3D f32",
-    precision: Precision::F32,
-    make: rapier3d_f32::make,
-};
-/// The kimpact2d-f64 (2D, f64) build of the adapter.
-pub const B2_F64: Backend<2> = Backend {
-    label: "2D f64",
-    precision: Precision::F64,
-    make: rapier2d_f64::make,
-};
-/// The kimpact3d-f64 (3D, f64) build of the adapter.
-pub const B3_F64: Backend<3> = Backend {
-    label: "3D f64",
-    precision: Precision::F64,
-    make: rapier3d_f64::make,
-};
+rapier_backend!(B2_F32, rapier2d_f32, "2D f32", F32, kimpact2d, 2);
+rapier_backend!(B3_F32, rapier3d_f32, "3D f32", F32, kimpact3d, 3);
+rapier_backend!(B2_F64, rapier2d_f64, "2D f64", F64, kimpact2d_f64, 2);
+rapier_backend!(B3_F64, rapier3d_f64, "3D f64", F64, kimpact3d_f64, 3);

@@ -23,9 +23,10 @@ pub struct WriteError {
 ///
 /// # Errors
 /// [`WriteError`] naming the first file that could not be written.
-pub fn write_files(files: &[(&Path, &[u8])]) -> Result<(), WriteError> {
+pub fn write_files<P: AsRef<Path>, B: AsRef<[u8]>>(files: &[(P, B)]) -> Result<(), WriteError> {
     let mut temps = Vec::with_capacity(files.len());
-    for &(path, contents) in files {
+    for (path, contents) in files {
+        let path = path.as_ref();
         let error = |source| WriteError {
             path: path.to_owned(),
             source,
@@ -35,22 +36,20 @@ pub fn write_files(files: &[(&Path, &[u8])]) -> Result<(), WriteError> {
             _ => Path::new("."),
         };
         std::fs::create_dir_all(folder).map_err(error)?;
-        let mut temp = tempfile::NamedTempFile::new_in(folder).map_err(error)?;
-        temp.write_all(contents).map_err(error)?;
+        let mut builder = tempfile::Builder::new();
         // A temporary file is private (0600); the results are not.
         #[cfg(unix)]
-        {
-            use std::os::unix::fs::PermissionsExt;
-            let public = std::fs::Permissions::from_mode(0o644);
-            temp.as_file().set_permissions(public).map_err(error)?;
-        }
-        temps.push(temp);
+        builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o644));
+        let mut temp = builder.tempfile_in(folder).map_err(error)?;
+        temp.write_all(contents.as_ref()).map_err(error)?;
+        temps.push((path, temp));
     }
-    for (&(path, _), temp) in files.iter().zip(temps) {
-        temp.persist(path).map_err(|e| WriteError {
+    for (path, temp) in temps {
+        let error = |e: tempfile::PersistError| WriteError {
             path: path.to_owned(),
             source: e.error,
-        })?;
+        };
+        temp.persist(path).map_err(error)?;
     }
     Ok(())
 }
@@ -62,19 +61,19 @@ pub fn machine() -> String {
         Some(line.split(':').nth(1)?.trim().to_owned())
     });
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let run = |c: &str, a: &str| std::process::Command::new(c).arg(a).output().ok();
-    let out = |o: Option<std::process::Output>| {
+    let out = |command: &str, arg: &str| {
+        let o = std::process::Command::new(command).arg(arg).output();
         o.map(|o| String::from_utf8_lossy(&o.stdout).into_owned())
             .unwrap_or_default()
     };
     // `rustc 1.95.0` without its commit and date: the docs name no commits.
-    let rustc: Vec<String> = out(run("rustc", "-V"))
+    let rustc: Vec<String> = out("rustc", "-V")
         .split(' ')
         .take(2)
         .map(str::to_owned)
         .collect();
     let cpu = cpu.as_deref().unwrap_or("unknown CPU");
-    let os = out(run("uname", "-sr"));
+    let os = out("uname", "-sr");
     format!(
         "{cpu}, {cores} cores available to the process, {}; {}",
         os.trim(),

@@ -36,12 +36,9 @@ pub use method::Method;
 pub use plot::{Panel, color, svg};
 pub use records::{AccuracySummary, BenchRow, EffectRow, ErrorRow};
 pub use scenes::{
-    DT, R, Rng, Setup, Velocities, ball_volume, cradle_setup, gas_setup, lattice, two_ball_setup,
-    unit_x, z_setup,
+    DT, R, Setup, State, V, Velocities, ball_volume, cradle_setup, gas_setup, lattice,
+    two_ball_setup, z_setup,
 };
-pub use sim::{RefSim, Sim, State, Totals};
+pub use sim::{RefSim, Sim};
 pub use stacks::is_kimpact;
 pub use stats::{ks, ks_maxwell, mean_and_error};
-
-/// A vector of the reference's dimension `D`, in f64.
-pub type V<const D: usize> = kimpact_reference::nalgebra::SVector<f64, D>;

@@ -5,22 +5,15 @@ use crate::{Backend, DT, HarnessError, Method, R, RefSim, Setup, Sim, V};
 
 /// The kinetic energy of `state` (masses from `setup`).
 pub fn kinetic<const D: usize>(setup: &Setup<D>, state: &[(V<D>, V<D>)]) -> f64 {
-    setup
-        .balls
-        .iter()
-        .zip(state)
-        .map(|(b, (_, v))| 0.5 * b.mass * v.norm_squared())
+    let each = setup.balls.iter().zip(state);
+    each.map(|(b, (_, v))| 0.5 * b.mass * v.norm_squared())
         .sum()
 }
 
 /// The total momentum of `state` (masses from `setup`).
 pub fn momentum<const D: usize>(setup: &Setup<D>, state: &[(V<D>, V<D>)]) -> V<D> {
-    setup
-        .balls
-        .iter()
-        .zip(state)
-        .map(|(b, (_, v))| v * b.mass)
-        .sum()
+    let each = setup.balls.iter().zip(state);
+    each.map(|(b, (_, v))| v * b.mass).sum()
 }
 
 /// Errors of a short scene against the reference at the same time: the
@@ -51,28 +44,17 @@ pub fn short_run<const D: usize>(
     sim.advance_to(t_end)?;
     let mut reference = RefSim::new(setup)?;
     reference.advance_to(sim.time())?;
-    let s = sim.state();
-    let r = reference.state();
-    let dv = s
-        .iter()
-        .zip(&r)
-        .map(|(a, b)| (a.1 - b.1).norm())
-        .fold(0.0, f64::max);
-    let dx = s
-        .iter()
-        .zip(&r)
-        .map(|(a, b)| (a.0 - b.0).norm())
-        .fold(0.0, f64::max)
-        / R;
-    let initial: Vec<_> = setup
-        .balls
-        .iter()
-        .map(|b| (b.position, b.velocity))
-        .collect();
+    let (s, r, initial) = (sim.state(), reference.state(), setup.initial());
+    // The largest differences of positions and of velocities.
+    let (mut dx, mut dv) = (0.0f64, 0.0f64);
+    for (a, b) in s.iter().zip(&r) {
+        dx = dx.max((a.0 - b.0).norm());
+        dv = dv.max((a.1 - b.1).norm());
+    }
     let p0 = momentum(setup, &initial);
     Ok(ShortResult {
         dv,
-        dx,
+        dx: dx / R,
         kept: kinetic(setup, &s) / kinetic(setup, &initial),
         dp: (momentum(setup, &s) - p0).norm() / p0.norm(),
     })
@@ -85,7 +67,7 @@ pub fn short_run<const D: usize>(
 /// ([`Sim::impulse_residual`]); balls outside the box at the end; what the
 /// simulator counted that is unusual ([`Sim::diagnostics`]).
 #[allow(missing_docs)]
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub struct GasSeries {
     pub t: Vec<f64>,
     pub energy: Vec<f64>,
@@ -113,28 +95,19 @@ pub fn gas_series<const D: usize>(
     checkpoints: usize,
 ) -> Result<GasSeries, HarnessError> {
     let mut sim = b.sim(setup, method)?;
-    let mut out = GasSeries {
-        t: vec![0.0],
-        energy: vec![1.0],
-        momentum: vec![],
-        impacts: vec![0],
-        speeds: vec![],
-        ms_per_step: 0.0,
-        error: None,
-        residual: 0.0,
-        escaped: 0,
-        diagnostics: None,
-    };
-    let initial: Vec<_> = setup
-        .balls
-        .iter()
-        .map(|b| (b.position, b.velocity))
-        .collect();
+    let initial = setup.initial();
     let e0 = kinetic(setup, &initial);
     let m_total: f64 = setup.balls.iter().map(|b| b.mass).sum();
     // |P| in units of sqrt(2 M E): about 1/sqrt(N) for an equilibrium gas.
-    out.momentum
-        .push(momentum(setup, &initial).norm() / (2.0 * m_total * e0).sqrt());
+    let p =
+        |state: &[(V<D>, V<D>)], e: f64| momentum(setup, state).norm() / (2.0 * m_total * e).sqrt();
+    let mut out = GasSeries {
+        t: vec![0.0],
+        energy: vec![1.0],
+        momentum: vec![p(&initial, e0)],
+        impacts: vec![0],
+        ..GasSeries::default()
+    };
     for c in 1..=checkpoints {
         // Whole base steps, so that every simulator stops at the same times.
         let steps = (t_end / DT * c as f64 / checkpoints as f64).round();
@@ -146,8 +119,7 @@ pub fn gas_series<const D: usize>(
         let e = kinetic(setup, &state);
         out.t.push(sim.time());
         out.energy.push(e / e0);
-        out.momentum
-            .push(momentum(setup, &state).norm() / (2.0 * m_total * e).sqrt());
+        out.momentum.push(p(&state, e));
         out.impacts.push(sim.totals().impacts());
         if 2 * c > checkpoints {
             let v_rms = (2.0 * e / m_total).sqrt();
@@ -155,19 +127,11 @@ pub fn gas_series<const D: usize>(
                 .extend(state.iter().map(|(_, v)| v.norm() / v_rms));
         }
     }
-    let (busy, steps) = sim.busy();
-    out.ms_per_step = if steps > 0 {
-        1e3 * busy / steps as f64
-    } else {
-        f64::NAN
-    };
+    let (lo, hi) = (setup.bounds.lo, setup.bounds.hi);
+    let outside = |p: &V<D>| (0..D).any(|k| !(p[k] >= lo[k] && p[k] <= hi[k]));
+    out.escaped = sim.state().iter().filter(|(p, _)| outside(p)).count();
+    out.ms_per_step = sim.ms_per_step();
     out.diagnostics = sim.diagnostics();
     out.residual = sim.impulse_residual();
-    let (lo, hi) = (setup.bounds.lo, setup.bounds.hi);
-    out.escaped = sim
-        .state()
-        .iter()
-        .filter(|(p, _)| (0..D).any(|k| !(p[k] >= lo[k] && p[k] <= hi[k])))
-        .count();
     Ok(out)
 }

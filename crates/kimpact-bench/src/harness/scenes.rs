@@ -3,8 +3,16 @@
 use std::f64::consts::PI;
 
 use kimpact_reference::{Ball, BoxBounds};
+use rand::rngs::Xoshiro256PlusPlus;
+use rand::{RngExt, SeedableRng};
 
-use crate::{HarnessError, V};
+use crate::HarnessError;
+
+/// A vector of the reference's dimension `D`, in f64.
+pub type V<const D: usize> = kimpact_reference::nalgebra::SVector<f64, D>;
+
+/// Positions and velocities of the balls, in the order of `Setup::balls`.
+pub type State<const D: usize> = Vec<(V<D>, V<D>)>;
 
 /// A scene: balls in a box, the law's dissipation and rapier's time step.
 #[derive(Clone, Debug)]
@@ -22,49 +30,41 @@ pub struct Setup<const D: usize> {
     pub dt: f64,
 }
 
+impl<const D: usize> Setup<D> {
+    /// The balls' positions and velocities at the start.
+    pub fn initial(&self) -> State<D> {
+        self.balls
+            .iter()
+            .map(|b| (b.position, b.velocity))
+            .collect()
+    }
+}
+
 /// rapier's default time step.
 pub const DT: f64 = 1.0 / 60.0;
 /// Every ball: diameter σ = 1, mass 1.
 pub const R: f64 = 0.5;
 
-/// The seeded generator of the lattices: `rand`'s portable Xoshiro256++.
-#[derive(Clone, Debug)]
-pub struct Rng(rand::rngs::Xoshiro256PlusPlus);
+/// Uniform in `[-a, a)`, from the lattices' seeded generator.
+fn sym(rng: &mut Xoshiro256PlusPlus, a: f64) -> f64 {
+    a * (2.0 * rng.random::<f64>() - 1.0)
+}
 
-impl Rng {
-    /// The generator seeded with `seed`.
-    pub fn new(seed: u64) -> Self {
-        use rand::SeedableRng;
-        Self(rand::rngs::Xoshiro256PlusPlus::seed_from_u64(seed))
-    }
-
-    /// Uniform in `[0, 1)`.
-    pub fn uniform(&mut self) -> f64 {
-        use rand::RngExt;
-        self.0.random()
-    }
-
-    /// Uniform in `[-a, a)`.
-    pub fn sym(&mut self, a: f64) -> f64 {
-        a * (2.0 * self.uniform() - 1.0)
-    }
-
-    /// A standard normal deviate (Box–Muller).
-    pub fn gauss(&mut self) -> f64 {
-        let u = 1.0 - self.uniform();
-        let v = self.uniform();
-        (-2.0 * u.ln()).sqrt() * (2.0 * PI * v).cos()
-    }
+/// A standard normal deviate (Box–Muller).
+fn gauss(rng: &mut Xoshiro256PlusPlus) -> f64 {
+    let u = 1.0 - rng.random::<f64>();
+    let v: f64 = rng.random();
+    (-2.0 * u.ln()).sqrt() * (2.0 * PI * v).cos()
 }
 
 /// The unit vector along the first axis.
-pub fn unit_x<const D: usize>() -> V<D> {
+fn unit_x<const D: usize>() -> V<D> {
     let mut v = V::<D>::zeros();
     v[0] = 1.0;
     v
 }
 
-/// Volume of a ball of radius `r` in `D` dimensions (2 or 3).
+/// Volume of a ball of radius `r` in `d` dimensions (2 or 3).
 pub fn ball_volume(d: usize, r: f64) -> f64 {
     if d == 2 {
         PI * r * r
@@ -94,7 +94,8 @@ pub fn lattice<const D: usize>(
     velocities: Velocities,
     seed: u64,
 ) -> Result<Vec<Ball<D>>, HarnessError> {
-    let mut rng = Rng::new(seed);
+    // `rand`'s portable Xoshiro256++: the same balls on every machine.
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
     let mut s = (size.product() / n as f64).powf(1.0 / D as f64);
     let counts = loop {
         let c: Vec<usize> = (0..D)
@@ -108,7 +109,7 @@ pub fn lattice<const D: usize>(
     let sites: usize = counts.iter().product();
     let mut order: Vec<usize> = (0..sites).collect();
     for i in 0..n {
-        let j = i + (rng.uniform() * (sites - i) as f64) as usize;
+        let j = i + (rng.random::<f64>() * (sites - i) as f64) as usize;
         order.swap(i, j.min(sites - 1));
     }
     let mut chosen = order[..n].to_vec();
@@ -125,27 +126,27 @@ pub fn lattice<const D: usize>(
                 let c = rest % counts[k];
                 rest /= counts[k];
                 let jitter = 0.49 * (spacing[k] - 2.0 * R);
-                (c as f64 + 0.5) * spacing[k] + rng.sym(jitter)
+                (c as f64 + 0.5) * spacing[k] + sym(&mut rng, jitter)
             });
             let v = match velocities {
-                Velocities::Uniform(a) => V::<D>::from_fn(|_, _| rng.sym(a)),
-                Velocities::Maxwell => V::<D>::from_fn(|_, _| rng.gauss()),
+                Velocities::Uniform(a) => V::<D>::from_fn(|_, _| sym(&mut rng, a)),
+                Velocities::Maxwell => V::<D>::from_fn(|_, _| gauss(&mut rng)),
             };
             Ball::new(R, 1.0, p, v)
         })
         .collect();
     if let Velocities::Maxwell = velocities {
         let mean: V<D> = balls.iter().map(|b| b.velocity).sum::<V<D>>() / n as f64;
-        for b in &mut balls {
-            b.velocity -= mean;
-        }
-        let e: f64 = balls.iter().map(|b| b.kinetic_energy()).sum();
-        let scale = (0.5 * (D * n) as f64 / e).sqrt();
-        for b in &mut balls {
-            b.velocity *= scale;
-        }
+        balls.iter_mut().for_each(|b| b.velocity -= mean);
+        set_energy(&mut balls, 0.5 * (D * n) as f64);
     }
     Ok(balls)
+}
+
+/// `balls`' velocities scaled to the kinetic energy `e`.
+fn set_energy<const D: usize>(balls: &mut [Ball<D>], e: f64) {
+    let scale = (e / balls.iter().map(|b| b.kinetic_energy()).sum::<f64>()).sqrt();
+    balls.iter_mut().for_each(|b| b.velocity *= scale);
 }
 
 /// The kind of gas of the CI test (`tests/accuracy.rs`): `n` balls at
@@ -167,11 +168,7 @@ pub fn gas_setup<const D: usize>(
     let mut balls = lattice(n, size, Velocities::Uniform(3.0), seed)?;
     // Every draw gets the same energy (kT = 3), so that different draws
     // are samples of the same gas.
-    let e: f64 = balls.iter().map(|b| b.kinetic_energy()).sum();
-    let scale = (1.5 * (D * n) as f64 / e).sqrt();
-    for b in &mut balls {
-        b.velocity *= scale;
-    }
+    set_energy(&mut balls, 1.5 * (D * n) as f64);
     Ok(Setup {
         balls,
         bounds: BoxBounds::new(V::zeros(), size),
@@ -205,21 +202,10 @@ pub fn two_ball_setup<const D: usize>(m2: f64, dissipation: f64, offset: f64, dt
 /// Newton's cradle: five touching balls and a sixth arriving at speed 1
 /// half a base step into the fourth base step.
 pub fn cradle_setup<const D: usize>(dt: f64) -> Setup<D> {
-    let centre = V::<D>::repeat(20.0);
-    let mut balls = vec![Ball::new(
-        R,
-        1.0,
-        centre - unit_x::<D>() * (2.0 * R + 3.5 * DT),
-        unit_x::<D>(),
-    )];
-    for i in 0..5 {
-        balls.push(Ball::new(
-            R,
-            1.0,
-            centre + unit_x::<D>() * (2.0 * R * i as f64),
-            V::<D>::zeros(),
-        ));
-    }
+    let (centre, x) = (V::<D>::repeat(20.0), unit_x::<D>());
+    let mut balls = vec![Ball::new(R, 1.0, centre - x * (2.0 * R + 3.5 * DT), x)];
+    let at_rest = |i: usize| Ball::new(R, 1.0, centre + x * (2.0 * R * i as f64), V::zeros());
+    balls.extend((0..5).map(at_rest));
     Setup {
         balls,
         bounds: BoxBounds::new(V::zeros(), V::repeat(40.0)),

@@ -7,16 +7,14 @@ use kimpact_harness::{
     Backend, DT, ErrorRow, GasSeries, HarnessError, Method, V, cradle_setup, gas_series, gas_setup,
     ks, ks_maxwell, short_run, two_ball_setup, z_setup,
 };
-use serde::Serialize;
 
-use crate::format::{e, pct};
+use crate::format::{e, ms, pct};
 use crate::z::{ZResult, z_run};
 
 /// A line of `accuracy.csv`: one value of a series or of the cost sweep:
 /// its section (`gas`, `cooling`, `cost`), build, simulator, time step
 /// divisor, x (time, or the time step), quantity and value.
-#[derive(Serialize)]
-pub struct CsvRow(
+pub type CsvRow = (
     &'static str,
     &'static str,
     &'static str,
@@ -90,7 +88,7 @@ impl<'a, const D: usize> Build<'a, D> {
     ) {
         self.out
             .csv
-            .push(CsvRow(section, self.b.label, m.name(), div, x, q, v));
+            .push((section, self.b.label, m.name(), div, x, q, v));
     }
 
     /// A point of the panel `title` (with the build's label) of the plot.
@@ -117,21 +115,25 @@ impl<'a, const D: usize> Build<'a, D> {
         error: f64,
         floor: Option<f64>,
     ) {
-        if let Some(mode) = m.mode() {
-            let (dimension, precision) = (D, self.b.precision);
-            let (scene, quantity) = (scene.to_owned(), q.to_owned());
-            let noise_floor = floor;
-            let row = ErrorRow {
-                scene,
-                dimension,
-                precision,
-                mode,
-                dt_div: div,
-                quantity,
-                error,
-                noise_floor,
-            };
-            self.out.errors.push(row);
+        let Some(mode) = m.mode() else { return };
+        self.out.errors.push(ErrorRow {
+            scene: scene.to_owned(),
+            dimension: D,
+            precision: self.b.precision,
+            mode,
+            dt_div: div,
+            quantity: q.to_owned(),
+            error,
+            noise_floor: floor,
+        });
+    }
+
+    /// The energy curve of `series` (of `method`) in the cooling section:
+    /// CSV lines and plot points.
+    fn cooling_curve(&mut self, method: Method, series: &GasSeries) {
+        for (&t, &e) in series.t.iter().zip(&series.energy) {
+            self.csv("cooling", method, 1, t, "energy", e);
+            self.point("cooling", method, t, e);
         }
     }
 }
@@ -247,23 +249,13 @@ pub fn gas_jobs<const D: usize>(
     let g = gas_series(&b, &setup, m, t, checkpoints)?;
     let r = gas_series(&b, &setup, Method::Reference, t, checkpoints)?;
     // The noise floor: the reference from other initial balls.
-    let other = gas_series(
-        &b,
-        &gas_setup::<D>(n, 0.0, DT, 2)?,
-        Method::Reference,
-        t,
-        checkpoints,
-    )?;
+    let other_balls = gas_setup::<D>(n, 0.0, DT, 2)?;
+    let other = gas_series(&b, &other_balls, Method::Reference, t, checkpoints)?;
     let rate = |s: &GasSeries| *s.impacts.last().unwrap() as f64 / s.t.last().unwrap();
     let mean_p = |s: &GasSeries| s.momentum.iter().sum::<f64>() / s.momentum.len() as f64;
     let ks_ref = |s: &GasSeries| ks(&mut s.speeds.clone(), &mut r.speeds.clone());
     let rate_error = |s: &GasSeries| (rate(s) / rate(&r) - 1.0).abs();
     let cells = |label: &str, s: &GasSeries| {
-        let ms = if s.ms_per_step.is_nan() {
-            "–".into()
-        } else {
-            format!("{:.3}", s.ms_per_step)
-        };
         let residual = match s.escaped {
             0 => e(s.residual),
             n => format!("{n} escaped"),
@@ -276,7 +268,7 @@ pub fn gas_jobs<const D: usize>(
             pct(rate(s) / rate(&r) - 1.0),
             format!("{:.3}", ks_ref(s)),
             format!("{:.3}", ks_maxwell(D, &mut s.speeds.clone())),
-            ms,
+            ms(s.ms_per_step, 3),
             residual,
         ]
     };
@@ -315,12 +307,8 @@ pub fn gas_jobs<const D: usize>(
 /// reference.
 pub fn cooling_jobs<const D: usize>(b: Backend<D>, sizes: &Sizes) -> Result<Out, HarnessError> {
     let mut j = Build::new(&b);
-    let (n, d, t, checkpoints) = (
-        sizes.gas_n,
-        0.01,
-        sizes.cooling_t,
-        sizes.cooling_checkpoints,
-    );
+    let (n, d) = (sizes.gas_n, 0.01);
+    let (t, checkpoints) = (sizes.cooling_t, sizes.cooling_checkpoints);
     // With d̃ > 0 the reference can stall: grazing impacts are clamped to a
     // restitution of 1e-3, and three balls in contact then collapse into
     // infinitely many impacts at one instant (inelastic collapse). Take
@@ -328,13 +316,8 @@ pub fn cooling_jobs<const D: usize>(b: Backend<D>, sizes: &Sizes) -> Result<Out,
     // time: the first for the comparison, the second as the noise floor.
     let mut good: Vec<(u64, GasSeries)> = Vec::new();
     for seed in 3..16 {
-        let g = gas_series(
-            &b,
-            &gas_setup::<D>(n, d, DT, seed)?,
-            Method::Reference,
-            t,
-            checkpoints,
-        )?;
+        let setup = gas_setup::<D>(n, d, DT, seed)?;
+        let g = gas_series(&b, &setup, Method::Reference, t, checkpoints)?;
         match &g.error {
             Some(err) => {
                 let who = format!(" reference, draw {seed} (skipped)");
@@ -347,27 +330,21 @@ pub fn cooling_jobs<const D: usize>(b: Backend<D>, sizes: &Sizes) -> Result<Out,
         }
     }
     let (Some((other_seed, other)), Some((seed, r))) = (good.pop(), good.pop()) else {
-        j.note(
-            "cooling",
-            "",
-            "no two draws the reference runs through; no comparison",
-        );
+        let none = "no two draws the reference runs through; no comparison";
+        j.note("cooling", "", none);
         return Ok(j.out);
     };
-    j.note(
-        "cooling",
-        "",
-        format!("compared on draw {seed}; noise floor from draw {other_seed}"),
-    );
+    let draws = format!("compared on draw {seed}; noise floor from draw {other_seed}");
+    j.note("cooling", "", draws);
     let setup = gas_setup::<D>(n, d, DT, seed)?;
     let mut runs = vec![("reference, other balls", Method::Reference, other)];
     for m in Method::RAPIER {
         runs.push((m.name(), m, gas_series(&b, &setup, m, t, checkpoints)?));
     }
+    let deviation = |s: &GasSeries, i: usize| (s.energy[i] / r.energy[i] - 1.0).abs();
     let worst = |s: &GasSeries| {
-        let k = s.t.len().min(r.t.len());
-        (1..k)
-            .map(|i| (s.energy[i] / r.energy[i] - 1.0).abs())
+        (1..s.t.len().min(r.t.len()))
+            .map(|i| deviation(s, i))
             .fold(0.0, f64::max)
     };
     let row = |label: &str, s: &GasSeries, vs: bool| {
@@ -379,50 +356,36 @@ pub fn cooling_jobs<const D: usize>(b: Backend<D>, sizes: &Sizes) -> Result<Out,
             ),
             false => ("–".into(), "–".into()),
         };
-        let (half, last) = (
-            format!("{:.4}", s.energy[k / 2]),
-            format!("{:.4}", s.energy[k - 1]),
-        );
+        let energy = |i: usize| format!("{:.4}", s.energy[i]);
+        let impacts = s.impacts[k - 1].to_string();
         vec![
             label.to_owned(),
-            half,
-            last,
+            energy(k / 2),
+            energy(k - 1),
             end,
             worst,
-            format!("{}", s.impacts[k - 1]),
+            impacts,
         ]
     };
     j.row("cooling", row("reference", &r, false));
-    for i in 0..r.t.len() {
-        j.csv(
-            "cooling",
-            Method::Reference,
-            1,
-            r.t[i],
-            "energy",
-            r.energy[i],
-        );
-        j.point("cooling", Method::Reference, r.t[i], r.energy[i]);
-    }
+    j.cooling_curve(Method::Reference, &r);
     if let Some(err) = &r.error {
         j.note("cooling", " reference", err);
     }
     let floor = worst(&runs[0].2);
     for (label, m, s) in &runs {
         j.row("cooling", row(label, s, true));
+        let deviation = worst(s);
         j.error(
             *m,
             "cooling",
             1,
             "worst_energy_deviation",
-            worst(s),
+            deviation,
             Some(floor),
         );
         if *m != Method::Reference {
-            for i in 0..s.t.len() {
-                j.csv("cooling", *m, 1, s.t[i], "energy", s.energy[i]);
-                j.point("cooling", *m, s.t[i], s.energy[i]);
-            }
+            j.cooling_curve(*m, s);
         }
         for text in s.diagnostics.iter().chain(&s.error) {
             j.note("cooling", &format!(" {label}"), text);
@@ -452,28 +415,24 @@ pub fn z_job<const D: usize>(
     let z = z_run(&b, &setup, method, ell, (t_eq, t_run, blocks), sizes.w_min)?;
     let lengths: Vec<String> = ell.iter().map(|x| format!("{x}")).collect();
     let case = format!("{D}D η = {eta}, ℓ = ({})", lengths.join(", "));
-    let precision = if method == Method::Reference {
-        Precision::F64
-    } else {
-        b.precision
-    };
+    let precision = method.mode().map_or(Precision::F64, |_| b.precision);
     let who = format!("{case}, {} {precision}", method.name());
-    for text in z
+    let notes = z
         .error
         .iter()
         .map(|e| e.to_string())
-        .chain(z.diagnostics.clone())
-    {
-        out.notes.push(format!("Z {who}: {text}"));
-    }
+        .chain(z.diagnostics.clone());
+    out.notes
+        .extend(notes.map(|text| format!("Z {who}: {text}")));
+    let (d, r) = (D, z);
     out.z.push(ZEntry {
         case,
-        d: D,
+        d,
         eta,
         method,
         precision,
         t_run,
-        r: z,
+        r,
     });
     Ok(out)
 }

@@ -15,3 +15,12 @@ pub fn e(x: f64) -> String {
 pub fn pct(x: f64) -> String {
     format!("{:+.2}%", 100.0 * x)
 }
+
+/// Milliseconds with `digits` decimals, `–` for NaN (the reference's).
+pub fn ms(x: f64, digits: usize) -> String {
+    if x.is_nan() {
+        "–".into()
+    } else {
+        format!("{x:.digits$}")
+    }
+}

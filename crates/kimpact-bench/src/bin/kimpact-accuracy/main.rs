@@ -22,7 +22,6 @@ mod plot;
 mod report;
 mod z;
 
-use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -55,7 +54,8 @@ struct Args {
     out: PathBuf,
 }
 
-/// What can stop a run.
+/// What can stop a run: a simulator, the worker threads, the plot or a
+/// file.
 #[derive(Debug, thiserror::Error)]
 enum RunError {
     #[error(transparent)]
@@ -67,8 +67,7 @@ enum RunError {
 }
 
 fn main() -> ExitCode {
-    let args = Args::parse();
-    match run(&args) {
+    match run(&Args::parse()) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("kimpact-accuracy: {e}");
@@ -77,11 +76,23 @@ fn main() -> ExitCode {
     }
 }
 
+/// `$job` (of the build `$b`) for every build, 2D then 3D, f32 then f64.
+macro_rules! each_build {
+    ($jobs:ident, |$b:ident| $job:expr) => {
+        for $b in [B2_F32, B2_F64] {
+            $jobs.push(Box::new(move || $job));
+        }
+        for $b in [B3_F32, B3_F64] {
+            $jobs.push(Box::new(move || $job));
+        }
+    };
+}
+
 /// The accuracy jobs, longest first: the reference's Z runs (once per case:
 /// it has no precision to vary), then rapier's in 3D, then in 2D (every mode
 /// in both precisions), the gases, the cooling gases and the short scenes.
-fn jobs<'a>(sizes: &'a Sizes) -> Result<Vec<Job<'a>>, HarnessError> {
-    let mut jobs: Vec<Job<'a>> = Vec::new();
+fn jobs(sizes: &Sizes) -> Result<Vec<Job<'_>>, HarnessError> {
+    let mut jobs: Vec<Job<'_>> = Vec::new();
     let (ell2, ell3, ell3_large) = (sizes.ell2, sizes.ell3, sizes.ell3_large);
     let [t2, t3, t3_large] = sizes.calibrate_t;
     // The box sizes that give the wanted bulk packing fractions.
@@ -90,65 +101,49 @@ fn jobs<'a>(sizes: &'a Sizes) -> Result<Vec<Job<'a>>, HarnessError> {
     // The 3D box small enough for rapier leaves little room away from the
     // walls: the reference also measures Z in a larger one.
     let n3_large = z::calibrate(&B3_F64, 0.3, ell3_large, t3_large, sizes.w_min)?;
-    let n2 = [
-        z::calibrate(&B2_F64, 0.3, ell2, t2, sizes.w_min)?,
-        z::calibrate(&B2_F64, 0.5, ell2, t2, sizes.w_min)?,
-    ];
-    let r = Method::Reference;
+    let mut cases2 = Vec::new();
+    for eta in [0.3, 0.5] {
+        cases2.push((
+            eta,
+            z::calibrate(&B2_F64, eta, ell2, t2, sizes.w_min)?,
+            ell2,
+        ));
+    }
+    let (case3, r) = ((0.3, n3, ell3), Method::Reference);
     jobs.push(Box::new(move || {
         z_job(B3_F64, (0.3, n3_large, ell3_large), r, sizes)
     }));
-    jobs.push(Box::new(move || z_job(B3_F64, (0.3, n3, ell3), r, sizes)));
-    for (i, eta) in [0.3, 0.5].into_iter().enumerate() {
-        let n = n2[i];
-        jobs.push(Box::new(move || z_job(B2_F64, (eta, n, ell2), r, sizes)));
+    jobs.push(Box::new(move || z_job(B3_F64, case3, r, sizes)));
+    for &case in &cases2 {
+        jobs.push(Box::new(move || z_job(B2_F64, case, r, sizes)));
     }
-    for m in Method::RAPIER {
-        for b in [B3_F32, B3_F64] {
-            jobs.push(Box::new(move || z_job(b, (0.3, n3, ell3), m, sizes)));
-        }
+    for (m, b) in Method::RAPIER
+        .into_iter()
+        .flat_map(|m| [(m, B3_F32), (m, B3_F64)])
+    {
+        jobs.push(Box::new(move || z_job(b, case3, m, sizes)));
     }
-    for (i, eta) in [0.3, 0.5].into_iter().enumerate() {
-        let n = n2[i];
-        for m in Method::RAPIER {
-            for b in [B2_F32, B2_F64] {
-                jobs.push(Box::new(move || z_job(b, (eta, n, ell2), m, sizes)));
-            }
+    for case in cases2 {
+        for (m, b) in Method::RAPIER
+            .into_iter()
+            .flat_map(|m| [(m, B2_F32), (m, B2_F64)])
+        {
+            jobs.push(Box::new(move || z_job(b, case, m, sizes)));
         }
     }
     // The gases, the cooling gases and the short scenes in every build.
-    macro_rules! each_build {
-        (|$b:ident| $job:expr) => {{
-            jobs.push(Box::new(move || {
-                let $b = B2_F32;
-                $job
-            }));
-            jobs.push(Box::new(move || {
-                let $b = B2_F64;
-                $job
-            }));
-            jobs.push(Box::new(move || {
-                let $b = B3_F32;
-                $job
-            }));
-            jobs.push(Box::new(move || {
-                let $b = B3_F64;
-                $job
-            }));
-        }};
-    }
     for m in Method::RAPIER {
-        each_build!(|b| gas_jobs(b, m, sizes));
+        each_build!(jobs, |b| gas_jobs(b, m, sizes));
     }
-    each_build!(|b| cooling_jobs(b, sizes));
-    each_build!(|b| short_jobs(b));
+    each_build!(jobs, |b| cooling_jobs(b, sizes));
+    each_build!(jobs, |b| short_jobs(b));
     Ok(jobs)
 }
 
 fn run(args: &Args) -> Result<(), RunError> {
-    let sizes = Sizes::new(args.quick);
-    let sizes = &sizes;
+    let sizes = &Sizes::new(args.quick);
     let started = Instant::now();
+    let progress = |what: &str| eprintln!("[{:>6.1}s] {what}", started.elapsed().as_secs_f64());
 
     // Phase 1: accuracy (jobs on `--threads` threads, longest first; their
     // timings share the cores).
@@ -156,14 +151,16 @@ fn run(args: &Args) -> Result<(), RunError> {
     let (total, done) = (jobs.len(), AtomicUsize::new(0));
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads.max(1))
-        .build()
-        .map_err(|e| RunError::Output(format!("cannot start the worker threads: {e}")))?;
+        .build();
+    let pool =
+        pool.map_err(|e| RunError::Output(format!("cannot start the worker threads: {e}")))?;
     let outs: Result<Vec<Out>, HarnessError> = pool.install(|| {
         let run = |job: Job<'_>| {
             let out = job();
-            let k = done.fetch_add(1, Ordering::SeqCst) + 1;
-            let t = started.elapsed().as_secs_f64();
-            eprintln!("[{t:>6.1}s] {k}/{total} jobs");
+            progress(&format!(
+                "{}/{total} jobs",
+                done.fetch_add(1, Ordering::SeqCst) + 1
+            ));
             out
         };
         // One job per task, taken in order: the longest start first.
@@ -173,41 +170,27 @@ fn run(args: &Args) -> Result<(), RunError> {
     outs?.into_iter().for_each(|o| all.absorb(o));
     // Phase 2: the cost of accuracy, one job at a time so that the timings
     // do not share the cores with other jobs of this program.
-    let t = started.elapsed().as_secs_f64();
-    eprintln!("[{t:>6.1}s] cost of accuracy (one thread)");
+    progress("cost of accuracy (one thread)");
     all.absorb(cost_jobs(B2_F32, sizes)?);
     all.absorb(cost_jobs(B2_F64, sizes)?);
     all.absorb(cost_jobs(B3_F32, sizes)?);
     all.absorb(cost_jobs(B3_F64, sizes)?);
     let elapsed = started.elapsed().as_secs_f64();
 
-    let mut tables: BTreeMap<String, Vec<Vec<String>>> = BTreeMap::new();
-    for (k, r) in all.rows {
-        tables.entry(k).or_default().push(r);
-    }
-    let (z_main, z_checks) = report::z_tables(&all.z);
-    tables.insert("z".to_owned(), z_main);
-    tables.insert("z_checks".to_owned(), z_checks);
     all.errors.extend(z_summary(&all.z));
     let mut csv = csv::Writer::from_writer(Vec::new());
-    let csv_error = |e: csv::Error| RunError::Output(e.to_string());
     csv.write_record(experiments::CSV_HEADER)
-        .map_err(csv_error)?;
-    for row in &all.csv {
-        csv.serialize(row).map_err(csv_error)?;
-    }
-    let csv = csv
-        .into_inner()
-        .map_err(|e| RunError::Output(e.to_string()))?;
-    let (points, notes) = (all.points, all.notes);
-    let errors = all.errors;
-
-    let svg = kimpact_harness::svg(&plot::panels(&points, sizes.gas_n), 3, (460, 320))
-        .map_err(|e| RunError::Output(format!("plot: {e}")))?;
+        .expect("a Vec takes every byte");
+    all.csv
+        .iter()
+        .for_each(|row| csv.serialize(row).expect("a CSV row serializes"));
+    let csv = csv.into_inner().expect("a Vec takes every byte");
+    let svg = kimpact_harness::svg(&plot::panels(&all.points, sizes.gas_n), 3, (460, 320));
+    let svg = svg.map_err(|e| RunError::Output(format!("plot: {e}")))?;
     let summary = AccuracySummary {
         command: report::command(args.quick),
         quick: args.quick,
-        errors,
+        errors: all.errors,
     };
     let summary = serde_json::to_string_pretty(&summary).expect("the summary serializes") + "\n";
     let dir = &args.out;
@@ -215,21 +198,20 @@ fn run(args: &Args) -> Result<(), RunError> {
     let md_path = dir.join("accuracy.md");
     let old = std::fs::read_to_string(&md_path).ok();
     let doc = report::document(&report::Document {
-        tables: &tables,
+        rows: &all.rows,
+        z: &all.z,
         findings: &report::findings(old.as_deref()),
-        notes: &notes,
+        notes: &all.notes,
         quick: args.quick,
         threads: args.threads,
         elapsed,
         sizes,
     });
-    let (svg_path, csv_path) = (dir.join("accuracy.svg"), dir.join("accuracy.csv"));
-    let json_path = dir.join("accuracy-summary.json");
     write_files(&[
-        (&svg_path, svg.as_bytes()),
-        (&csv_path, &csv),
-        (&json_path, summary.as_bytes()),
-        (&md_path, doc.as_bytes()),
+        (dir.join("accuracy.svg"), svg.into_bytes()),
+        (dir.join("accuracy.csv"), csv),
+        (dir.join("accuracy-summary.json"), summary.into_bytes()),
+        (md_path, doc.into_bytes()),
     ])?;
     eprintln!(
         "wrote {} (accuracy.md, .svg, .csv, accuracy-summary.json) in {elapsed:.0} s",

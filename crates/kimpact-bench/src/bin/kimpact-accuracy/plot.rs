@@ -18,58 +18,52 @@ type Points = Vec<(f64, f64)>;
 pub fn panels(points: &[(String, Method, f64, f64)], gas_balls: usize) -> Vec<Panel> {
     let mut by_title: BTreeMap<&str, BTreeMap<Method, Points>> = BTreeMap::new();
     for (title, method, x, y) in points {
-        by_title
+        let series = by_title
             .entry(title)
             .or_default()
             .entry(*method)
-            .or_default()
-            .push((*x, *y));
+            .or_default();
+        series.push((*x, *y));
     }
-    let mut list: Vec<Panel> = by_title
-        .into_iter()
-        .map(|(title, series)| {
-            let cooling = title.starts_with("cooling");
-            let (x_label, y_label, legend) = match cooling {
-                true => (
-                    "time (s)".to_owned(),
-                    "kinetic energy / initial",
-                    SeriesLabelPosition::LowerLeft,
-                ),
-                false => {
-                    let x = format!("CPU seconds per simulated second ({gas_balls}-ball gas)");
-                    (x, "error", SeriesLabelPosition::UpperRight)
-                }
-            };
-            let (title, y_label, series) = (
-                title.to_owned(),
-                y_label.to_owned(),
-                series.into_iter().collect(),
-            );
-            Panel {
-                title,
-                x_label,
-                y_label,
-                log_x: !cooling,
-                dots: !cooling,
-                legend,
-                series,
+    let panel = |(title, series): (&str, BTreeMap<_, _>)| {
+        let cooling = title.starts_with("cooling");
+        let (x_label, y_label, legend) = match cooling {
+            true => (
+                "time (s)".to_owned(),
+                "kinetic energy / initial",
+                SeriesLabelPosition::LowerLeft,
+            ),
+            false => {
+                let x = format!("CPU seconds per simulated second ({gas_balls}-ball gas)");
+                (x, "error", SeriesLabelPosition::UpperRight)
             }
-        })
-        .collect();
+        };
+        let (title, y_label, series) = (
+            title.to_owned(),
+            y_label.to_owned(),
+            series.into_iter().collect(),
+        );
+        Panel {
+            title,
+            x_label,
+            y_label,
+            log_x: !cooling,
+            dots: !cooling,
+            legend,
+            series,
+        }
+    };
+    let mut list: Vec<Panel> = by_title.into_iter().map(panel).collect();
+    // Every title ends with its build's label (`2D f32`…), which sorts as
+    // the builds' rows.
     let rank = |t: &str| {
         ["gas energy", "one impact", "cradle", "cooling"]
             .iter()
             .position(|k| t.starts_with(k))
-            .unwrap_or(9)
     };
     list.sort_by_key(|p| {
-        let cooling = p.title.starts_with("cooling");
-        let build = if cooling {
-            (false, false)
-        } else {
-            (p.title.contains("3D"), p.title.contains("f64"))
-        };
-        (cooling, build, rank(&p.title), p.title.clone())
+        let (rank, build) = (rank(&p.title), p.title[p.title.len() - 6..].to_owned());
+        (rank == Some(3), build, rank)
     });
     list
 }

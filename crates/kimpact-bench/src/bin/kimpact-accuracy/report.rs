@@ -2,12 +2,10 @@
 //! the tables' headers) filled with the tables, the command and the
 //! machine, with the hand-written Findings kept from the previous file.
 
-use std::collections::BTreeMap;
-
 use kimpact_harness::Method;
 
 use crate::experiments::{Sizes, ZEntry, z_vs_reference};
-use crate::format::{e, pct};
+use crate::format::{e, ms, pct};
 use crate::z::eos;
 
 /// The markers of the hand-written findings in `accuracy.md`.
@@ -45,18 +43,18 @@ pub fn z_tables(z: &[ZEntry]) -> (Vec<Vec<String>>, Vec<Vec<String>>) {
     let mut main = Vec::new();
     let mut checks = Vec::new();
     for x in sorted {
-        let (case, eta, d, method, t_run, r) = (&x.case, &x.eta, &x.d, &x.method, &x.t_run, &x.r);
+        let (case, eta, d, method, t_run, r) = (&x.case, x.eta, x.d, x.method, x.t_run, &x.r);
         let reference = z
             .iter()
             .find(|y| &y.case == case && y.method == Method::Reference);
-        let fit = eos(*d, r.eta_bulk);
-        let name = if *d == 2 {
+        let fit = eos(d, r.eta_bulk);
+        let name = if d == 2 {
             "Henderson"
         } else {
             "Carnahan–Starling"
         };
         let vs_ref = match reference {
-            Some(q) if *method != Method::Reference => {
+            Some(q) if method != Method::Reference => {
                 let (dev, err) = z_vs_reference(x, q);
                 format!("{} ± {:.2}%", pct(dev), 100.0 * err)
             }
@@ -75,37 +73,39 @@ pub fn z_tables(z: &[ZEntry]) -> (Vec<Vec<String>>, Vec<Vec<String>>) {
             vs_ref,
             pct(r.kt_drift),
             format!("{}", r.impacts),
-            if r.ms_per_step.is_nan() {
-                "–".into()
-            } else {
-                format!("{:.2}", r.ms_per_step)
-            },
+            ms(r.ms_per_step, 2),
             e(r.residual),
         ]);
-        if *method == Method::Reference {
-            let mut row = vec![
-                case.clone(),
-                pct(r.z_naive / eos(*d, *eta) - 1.0),
+        if method == Method::Reference {
+            let (naive, single) = (
+                pct(r.z_naive / eos(d, eta) - 1.0),
                 pct(r.z_single / fit - 1.0),
-            ];
-            for (w, eta_w, z_w) in &r.by_w {
-                row.push(format!(
+            );
+            let by_w = r.by_w.iter().map(|&(w, eta_w, z_w)| {
+                format!(
                     "{w}: η {eta_w:.4}, Z/EOS {}",
-                    pct(z_w / eos(*d, *eta_w) - 1.0)
-                ));
-            }
-            checks.push(row);
+                    pct(z_w / eos(d, eta_w) - 1.0)
+                )
+            });
+            checks.push(
+                [case.clone(), naive, single]
+                    .into_iter()
+                    .chain(by_w)
+                    .collect(),
+            );
         }
     }
     (main, checks)
 }
 
-/// What `accuracy.md` is filled with: each table's rows by the
-/// template's name for it (`impact`, `cradle`, `gas`, `z`, `z_checks`,
-/// `cooling`, `cost`), and the run.
+/// What `accuracy.md` is filled with: the jobs' table rows, each with the
+/// template's name for its table (`impact`, `cradle`, `gas`, `cooling`,
+/// `cost`), the Z runs (the tables `z` and `z_checks`), and the run.
 pub struct Document<'a> {
     /// The tables' rows.
-    pub tables: &'a BTreeMap<String, Vec<Vec<String>>>,
+    pub rows: &'a [(String, Vec<String>)],
+    /// The Z runs.
+    pub z: &'a [ZEntry],
     /// The hand-written findings to keep.
     pub findings: &'a str,
     /// Notes from the run.
@@ -123,10 +123,20 @@ pub struct Document<'a> {
 /// The whole of `accuracy.md`: the template `accuracy.md.in` (the prose
 /// and the tables' headers) filled in.
 pub fn document(d: &Document<'_>) -> String {
-    let rows = |key: &str| {
-        let rows = d.tables.get(key).map(Vec::as_slice).unwrap_or_default();
-        rows.iter()
-            .map(|r| format!("| {} |\n", r.join(" | ")))
+    let (z, z_checks) = z_tables(d.z);
+    let z = z
+        .iter()
+        .map(|r| ("z", r))
+        .chain(z_checks.iter().map(|r| ("z_checks", r)));
+    let rows: Vec<(&str, &Vec<String>)> = d
+        .rows
+        .iter()
+        .map(|(k, r)| (k.as_str(), r))
+        .chain(z)
+        .collect();
+    let table = |key| {
+        let mine = rows.iter().filter(|r| r.0 == key);
+        mine.map(|r| format!("| {} |\n", r.1.join(" | ")))
             .collect::<String>()
     };
     let quick = match d.quick {
@@ -145,7 +155,7 @@ pub fn document(d: &Document<'_>) -> String {
     let tables = [
         "impact", "cradle", "gas", "z", "z_checks", "cooling", "cost",
     ];
-    let mut fills: Vec<(&str, String)> = tables.iter().map(|&k| (k, rows(k))).collect();
+    let mut fills: Vec<(&str, String)> = tables.iter().map(|&k| (k, table(k))).collect();
     // The texts from outside the program last: nothing in them is filled.
     fills.extend([
         ("gas_t", d.sizes.gas_t.to_string()),

@@ -5,23 +5,12 @@ use kimpact_harness::{
     Backend, DT, HarnessError, Method, R, Setup, V, ball_volume, kinetic, mean_and_error, z_setup,
 };
 
-/// Henderson's equation of state for hard disks.
-fn henderson(eta: f64) -> f64 {
-    (1.0 + eta * eta / 8.0) / (1.0 - eta).powi(2)
-}
-
-/// Carnahan–Starling for hard spheres.
-fn carnahan_starling(eta: f64) -> f64 {
-    (1.0 + eta + eta * eta - eta.powi(3)) / (1.0 - eta).powi(3)
-}
-
-/// The equation of state of the dimension: Henderson (2D) or
-/// Carnahan–Starling (3D).
+/// The equation of state of the dimension: Henderson's for hard disks
+/// (2D), Carnahan–Starling for hard spheres (3D).
 pub fn eos(d: usize, eta: f64) -> f64 {
-    if d == 2 {
-        henderson(eta)
-    } else {
-        carnahan_starling(eta)
+    match d {
+        2 => (1.0 + eta * eta / 8.0) / (1.0 - eta).powi(2),
+        _ => (1.0 + eta + eta * eta - eta.powi(3)) / (1.0 - eta).powi(3),
     }
 }
 
@@ -218,12 +207,7 @@ pub fn z_run<const D: usize>(
     out.z_single_err = mean_and_error(&single_blocks).1;
     out.kt_drift = temp / kt0 - 1.0;
     out.impacts = sim.totals().impacts();
-    let (busy, steps) = sim.busy();
-    out.ms_per_step = if steps > 0 {
-        1e3 * busy / steps as f64
-    } else {
-        f64::NAN
-    };
+    out.ms_per_step = sim.ms_per_step();
     out.residual = sim.impulse_residual();
     out.diagnostics = sim.diagnostics();
     Ok(out)

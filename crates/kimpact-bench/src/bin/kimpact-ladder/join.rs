@@ -23,12 +23,10 @@
 //!   hollow.
 
 use std::collections::{BTreeMap, BTreeSet};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use kimpact::{Mode, Precision};
 use kimpact_harness::{BenchRow, ErrorRow};
-
-use crate::LadderError;
 
 /// A joined scene: the bench's scene, the dimension of the accuracy
 /// study's [`GAS`] it is measured against, and its label.
@@ -100,6 +98,24 @@ pub struct Files<'a> {
     pub accuracy: &'a Path,
 }
 
+/// Why the ladder was not drawn (nothing is written then): the file at
+/// fault (an input that cannot be read or breaks a rule of the join, an
+/// output that cannot be drawn or written) and what is wrong, and where.
+#[derive(Debug, thiserror::Error)]
+#[error("{}: {message}", path.display())]
+pub struct LadderError {
+    pub path: PathBuf,
+    pub message: String,
+}
+
+impl LadderError {
+    /// An error in `path`.
+    pub fn new(path: &Path, message: impl ToString) -> Self {
+        let (path, message) = (path.to_owned(), message.to_string());
+        Self { path, message }
+    }
+}
+
 /// Each item of `items` by its mode, with where it is (a line, an index);
 /// the same mode twice is an error naming both places.
 fn by_mode<'a, T>(
@@ -128,10 +144,8 @@ pub fn join(
     summary: &[ErrorRow],
     files: Files<'_>,
 ) -> Result<Join, LadderError> {
-    let mut out = Join {
-        points: vec![],
-        skipped: vec![],
-    };
+    let (points, skipped) = (vec![], vec![]);
+    let mut out = Join { points, skipped };
     for scene in &SCENES {
         let (name, dim, scene_label) = *scene;
         let bench_key = format!("{name} ({PRECISION}, {BALLS} balls, parallel false)");
@@ -202,9 +216,10 @@ pub fn join(
                     return Err(LadderError::new(files.accuracy, message));
                 }
                 let (ratio, error, noise_floor, mode) = (cost.ratio, e.error, e.noise_floor, *mode);
+                let quantity = label;
                 out.points.push(Point {
                     scene,
-                    quantity: label,
+                    quantity,
                     mode,
                     ratio,
                     error,

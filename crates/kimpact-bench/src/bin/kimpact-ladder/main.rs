@@ -5,10 +5,11 @@
 //! ```
 //!
 //! It reads what the bench wrote (`docs/bench/results.csv`, rows of
-//! [`BenchRow`]) and what the accuracy study wrote
-//! (`docs/accuracy-summary.json`, an [`AccuracySummary`]) with the types
-//! that wrote them, joins them (`join.rs` holds every rule) and writes
-//! `docs/ladder.svg` and `docs/ladder.md`, whole or not at all.
+//! [`kimpact_harness::BenchRow`]) and what the accuracy study wrote
+//! (`docs/accuracy-summary.json`, an [`kimpact_harness::AccuracySummary`])
+//! with the types that wrote them, joins them (`join.rs` holds every rule)
+//! and writes `docs/ladder.svg` and `docs/ladder.md`, whole or
+//! not at all.
 
 mod join;
 mod page;
@@ -19,6 +20,8 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use kimpact_harness::{AccuracySummary, BenchRow, write_files};
+
+use join::LadderError;
 
 /// Error against ×native per mode and scene: the bench's and the accuracy
 /// study's results drawn together.
@@ -40,25 +43,8 @@ struct Args {
     md: PathBuf,
 }
 
-/// Why the ladder was not drawn (nothing is written then): the file at
-/// fault (an input that cannot be read or breaks a rule of the join, an
-/// output that cannot be drawn or written) and what is wrong, and where.
-#[derive(Debug, thiserror::Error)]
-#[error("{}: {message}", path.display())]
-pub struct LadderError {
-    pub path: PathBuf,
-    pub message: String,
-}
-
-impl LadderError {
-    /// An error in `path`.
-    pub fn new(path: &Path, message: impl ToString) -> Self {
-        let (path, message) = (path.to_owned(), message.to_string());
-        Self { path, message }
-    }
-}
-
-/// The bench's rows at `path`, each with its line.
+/// The bench's rows at `path`, each with its line (an error names the
+/// column at fault).
 fn read_bench(path: &Path) -> Result<Vec<(u64, BenchRow)>, LadderError> {
     let error = |e| LadderError::new(path, format!("cannot read: {e}"));
     let bytes = std::fs::read(path).map_err(error)?;
@@ -97,8 +83,10 @@ fn read_summary(path: &Path) -> Result<AccuracySummary, LadderError> {
 }
 
 fn run(args: &Args) -> Result<String, LadderError> {
-    let rows = read_bench(&args.bench_csv)?;
-    let summary = read_summary(&args.accuracy_json)?;
+    let (rows, summary) = (
+        read_bench(&args.bench_csv)?,
+        read_summary(&args.accuracy_json)?,
+    );
     let files = join::Files {
         bench: &args.bench_csv,
         accuracy: &args.accuracy_json,
@@ -106,16 +94,15 @@ fn run(args: &Args) -> Result<String, LadderError> {
     let joined = join::join(&rows, &summary.errors, files)?;
     let svg = plot::svg(&joined).map_err(|e| LadderError::new(&args.svg, e))?;
     let md = page::markdown(&joined, &summary, files, (&args.svg, &args.md));
-    let written = write_files(&[(&args.svg, svg.as_bytes()), (&args.md, md.as_bytes())]);
+    let written = write_files(&[(&args.svg, svg), (&args.md, md)]);
     written.map_err(|e| LadderError::new(&e.path, e.source))?;
     for s in &joined.skipped {
         eprintln!("kimpact-ladder: left out {s}");
     }
     let (n, skipped) = (joined.points.len(), joined.skipped.len());
+    let (svg, md) = (args.svg.display(), args.md.display());
     Ok(format!(
-        "wrote {} and {}: {n} points, {skipped} left out",
-        args.svg.display(),
-        args.md.display()
+        "wrote {svg} and {md}: {n} points, {skipped} left out"
     ))
 }
 

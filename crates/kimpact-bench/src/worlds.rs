@@ -1,0 +1,45 @@
+//! The bench's worlds and a child's run, written once (`scene.rs`,
+//! `small.rs`) and compiled for each adapter crate: native and the law
+//! modes run the same code, only the `Mode` differs.
+
+use std::process::ExitCode;
+
+use kimpact::Precision;
+
+use crate::cli::Cli;
+
+/// The scenes and one measured run for the adapter crate `$krate`, whose
+/// angles and angular velocities about z are `$about_z` of a scalar.
+macro_rules! build {
+    ($($module:ident: $krate:ident, $about_z:expr;)*) => {$(
+        mod $module {
+            use $krate as k;
+
+            /// An angle or angular velocity `a` about z.
+            fn about_z(a: k::math::Real) -> k::rapier::math::AngVector {
+                ($about_z)(a)
+            }
+
+            include!("scene.rs");
+            include!("small.rs");
+        }
+    )*};
+}
+build! {
+    d2: kimpact2d, |a| a;
+    d3: kimpact3d, |a| k::math::Vector::Z * a;
+    d2_f64: kimpact2d_f64, |a| a;
+    d3_f64: kimpact3d_f64, |a| k::math::Vector::Z * a;
+}
+
+/// In a child: run what `--pair` or `--solo` asks and print it as JSON.
+pub fn child_main(cli: &Cli) -> ExitCode {
+    let json = match (cli.scene[0].dim(), cli.precision[0]) {
+        (2, Precision::F32) => d2::run(cli),
+        (2, Precision::F64) => d2_f64::run(cli),
+        (_, Precision::F32) => d3::run(cli),
+        (_, Precision::F64) => d3_f64::run(cli),
+    };
+    println!("{json}");
+    ExitCode::SUCCESS
+}
