@@ -348,44 +348,6 @@ struct Sweeper {
     ball: Option<BallOnPath>,
 }
 
-/// The linear cast ([`crate::cast::ball_ball`]) of two balls riding nodes
-/// `n1` and `n2`, each given as (radius, centre offset from its node's path;
-/// see [`Pair::balls`]), from time `from` over `window` seconds. The one
-/// cast of a pair of balls: `Replay::cast`, and the bulk sweep's test of
-/// whether a pair may be deferred, must agree.
-fn cast_balls(
-    n1: &Node,
-    (r1, o1): BallOnPath,
-    n2: &Node,
-    (r2, o2): BallOnPath,
-    from: Real,
-    window: Real,
-) -> Option<crate::cast::Hit> {
-    let (c1, c2) = (n1.at(from) + o1, n2.at(from) + o2);
-    crate::cast::ball_ball(c1, n1.v, r1, c2, n2.v, r2, window, false)
-}
-
-/// The bulk sweep replaces one broad-phase query per swept collider when at
-/// least this many colliders sweep, and at least one in `BULK_SHARE` of all
-/// colliders does (a gas: every ball moves more than rapier's prediction
-/// distance per step).
-const BULK_MIN: usize = 64;
-const BULK_SHARE: usize = 8;
-
-/// Where collider `co` is: its body's pose composed with its own offset
-/// (rapier syncs collider poses only inside its step, so before the step a
-/// body the user moved has a stale collider pose), or its own pose when it
-/// has no body. The replay shifts it along the body's path.
-fn rest_pose(bodies: &RigidBodySet, co: &Collider) -> Pose {
-    match (
-        co.parent().and_then(|h| bodies.get(h)),
-        co.position_wrt_parent(),
-    ) {
-        (Some(rb), Some(local)) => *rb.position() * *local,
-        _ => *co.position(),
-    }
-}
-
 impl Replay {
     /// Bring the governed contacts of node `n`'s marked colliders into the
     /// replay (once), and predict them from time `t`.

@@ -321,3 +321,17 @@ impl Replay {
         Some((radius, rest_pose(bodies, co).translation - self.nodes[n].x1))
     }
 }
+
+/// Where collider `co` is: its body's pose composed with its own offset
+/// (rapier syncs collider poses only inside its step, so before the step a
+/// body the user moved has a stale collider pose), or its own pose when it
+/// has no body. The replay shifts it along the body's path.
+pub(super) fn rest_pose(bodies: &RigidBodySet, co: &Collider) -> Pose {
+    match (
+        co.parent().and_then(|h| bodies.get(h)),
+        co.position_wrt_parent(),
+    ) {
+        (Some(rb), Some(local)) => *rb.position() * *local,
+        _ => *co.position(),
+    }
+}

@@ -130,3 +130,20 @@ impl Replay {
             .flatten()
     }
 }
+
+/// The linear cast ([`crate::cast::ball_ball`]) of two balls riding nodes
+/// `n1` and `n2`, each given as (radius, centre offset from its node's path;
+/// see [`Pair::balls`]), from time `from` over `window` seconds. The one
+/// cast of a pair of balls: `Replay::cast`, and the bulk sweep's test of
+/// whether a pair may be deferred, must agree.
+pub(super) fn cast_balls(
+    n1: &Node,
+    (r1, o1): BallOnPath,
+    n2: &Node,
+    (r2, o2): BallOnPath,
+    from: Real,
+    window: Real,
+) -> Option<crate::cast::Hit> {
+    let (c1, c2) = (n1.at(from) + o1, n2.at(from) + o2);
+    crate::cast::ball_ball(c1, n1.v, r1, c2, n2.v, r2, window, false)
+}

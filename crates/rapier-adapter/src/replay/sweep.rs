@@ -2,7 +2,16 @@
 //! found along its path through rapier's broad phase (one query at a time,
 //! or in bulk through a grid of the swept boxes).
 
+use super::nodes::rest_pose;
+use super::predict::cast_balls;
 use super::*;
+
+/// The bulk sweep replaces one broad-phase query per swept collider when at
+/// least this many colliders sweep, and at least one in `BULK_SHARE` of all
+/// colliders does (a gas: every ball moves more than rapier's prediction
+/// distance per step).
+const BULK_MIN: usize = 64;
+const BULK_SHARE: usize = 8;
 
 impl Replay {
     /// Bodies that move more than their own half-size this step can cross a
