@@ -73,11 +73,22 @@ impl<'a> FlagStep<'a> {
 pub(crate) struct Prepare {
     /// Per collider index: whether `MODIFY_SOLVER_CONTACTS` is set by us.
     pub ours: Vec<bool>,
-    /// Colliders whose hook flag we set this step.
+    /// Colliders whose hook flag we set this step, but for those in
+    /// `rigid`: in impulse and exact mode, the colliders the replay sweeps.
     pub flagged: Vec<ColliderHandle>,
+    /// Extended colliders of dynamic bodies (not balls centred on their
+    /// body, see `marks::is_point_collider`) whose hook flag we set this
+    /// step: the hook governs their pairs as rigid bodies at the manifold's
+    /// contact in every law mode, and the replay, which moves bodies as
+    /// points, never sweeps them.
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    pub rigid: Vec<ColliderHandle>,
     /// Scratch of `run`: last step's `flagged`.
     #[cfg_attr(feature = "serde-serialize", serde(skip))]
     previous: Vec<ColliderHandle>,
+    /// Scratch of `run`: last step's `rigid`.
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    previous_rigid: Vec<ColliderHandle>,
     /// Per collider index: the step (`epoch`) at which it was last flagged.
     seen: Vec<u32>,
     /// Per collider index: the step (`epoch`) at which it was flagged while
@@ -147,6 +158,8 @@ impl Prepare {
         self.epoch = self.epoch.wrapping_add(1).max(1);
         std::mem::swap(&mut self.previous, &mut self.flagged);
         self.flagged.clear();
+        std::mem::swap(&mut self.previous_rigid, &mut self.rigid);
+        self.rigid.clear();
         self.swept.clear();
         self.to_wake.clear();
         if mode != Mode::Native {
@@ -201,8 +214,21 @@ impl Prepare {
             self.woken.clear();
         }
         // Last step's flags not renewed: cleared.
-        for i in 0..self.previous.len() {
-            let handle = self.previous[i];
+        let previous = std::mem::take(&mut self.previous);
+        self.unflag_stale(&previous, colliders);
+        self.previous = previous;
+        self.previous.clear();
+        let previous = std::mem::take(&mut self.previous_rigid);
+        self.unflag_stale(&previous, colliders);
+        self.previous_rigid = previous;
+        self.previous_rigid.clear();
+        calm_bodies
+    }
+
+    /// Clear our hook flag on the colliders of `previous` (flagged last
+    /// step) not flagged again this step.
+    fn unflag_stale(&mut self, previous: &[ColliderHandle], colliders: &mut ColliderSet) {
+        for &handle in previous {
             let (index, _) = handle.into_raw_parts();
             let index = index as usize;
             if self.seen.get(index) == Some(&self.epoch) {
@@ -215,8 +241,6 @@ impl Prepare {
                 *o = false;
             }
         }
-        self.previous.clear();
-        calm_bodies
     }
 
     /// Whether collider `ch` is one of this step's swept colliders: in
@@ -404,11 +428,11 @@ impl Prepare {
             0.0
         };
         for &ch in rb.colliders() {
-            // An extended collider on a dynamic body is rapier's (see
-            // `Marks::governs`), but for restitution mode's rigid
-            // restitution: no hook for it otherwise.
+            // An extended collider on a dynamic body: the hook governs its
+            // pairs as rigid bodies (see `Marks::governs_rigid`) in every
+            // law mode; the replay never sweeps it (`Prepare::rigid`).
             let extended = marks.is_extended(ch);
-            if !partner && (!marks.contains(ch) || (extended && !step.restitution)) {
+            if !partner && !marks.contains(ch) {
                 continue;
             }
             any_marked = true;
@@ -441,7 +465,11 @@ impl Prepare {
             }
             // Ours since last step (`carried`): kept, untouched.
             self.seen[index] = self.epoch;
-            self.flagged.push(ch);
+            if extended && rb.is_dynamic() {
+                self.rigid.push(ch);
+            } else {
+                self.flagged.push(ch);
+            }
             flagged = true;
             if self.touched.len() <= index {
                 self.touched.resize_with(index + 1, || AtomicU32::new(0));
