@@ -36,6 +36,7 @@ macro_rules! build {
             use $krate as k;
             include!("scene.rs");
             include!("small.rs");
+            include!("rigid_scenes.rs");
         }
     )*};
 }
@@ -66,30 +67,38 @@ pub enum Scene {
     Restitution2,
     /// 2D pinball: 3 balls, a polyline table, bumpers and two flippers.
     Pinball,
+    /// 3D dice: 1,000 cubes of two sizes thrown spinning into a closed box.
+    Dice,
+    /// 2D dominoes: 50 rows of 20 on a floor, each row's first tipped.
+    Dominoes,
 }
 
 impl Scene {
     /// The scene's dimension.
     pub fn dim(self) -> usize {
         match self {
-            Scene::Pit3d | Scene::Gas3d | Scene::Restitution3 => 3,
+            Scene::Pit3d | Scene::Gas3d | Scene::Restitution3 | Scene::Dice => 3,
             _ => 2,
         }
     }
 
-    /// The balls of a scene of fixed size (`None`: `--balls` sets it).
+    /// The bodies of a scene of fixed size (`None`: `--balls` sets it).
     pub fn fixed_balls(self) -> Option<usize> {
         match self {
             Scene::Billiards => Some(16),
             Scene::Restitution3 | Scene::Restitution2 => Some(22),
             Scene::Pinball => Some(3),
+            Scene::Dice | Scene::Dominoes => Some(1000),
             _ => None,
         }
     }
 
     /// A small scene: a step of microseconds, timed by whole blocks.
     pub fn small(self) -> bool {
-        self.fixed_balls().is_some()
+        matches!(
+            self,
+            Scene::Billiards | Scene::Restitution3 | Scene::Restitution2 | Scene::Pinball
+        )
     }
 
     /// The name used on the command line and in the outputs.
@@ -104,6 +113,8 @@ impl Scene {
             Scene::Restitution3 => "restitution3",
             Scene::Restitution2 => "restitution2",
             Scene::Pinball => "pinball",
+            Scene::Dice => "dice",
+            Scene::Dominoes => "dominoes",
         }
     }
 }
@@ -162,6 +173,24 @@ macro_rules! about_z {
 about_z!(f32: f32 => |a| a, f64: f64 => |a| a,
     kimpact3d::math::Vector: f32 => |a| Self::Z * a,
     kimpact3d_f64::math::Vector: f64 => |a| Self::Z * a);
+
+/// A rotation vector or angular velocity from its components: in 3D the
+/// vector `[x, y, z]`, in 2D the angle about z, `z`.
+pub trait Xyz<R> {
+    /// The angular quantity of components `x`, `y`, `z`.
+    fn xyz(x: R, y: R, z: R) -> Self;
+}
+
+macro_rules! xyz {
+    ($($t:ty: $r:ty => |$x:ident, $y:ident, $z:ident| $e:expr),*) => {$(
+        impl Xyz<$r> for $t {
+            fn xyz($x: $r, $y: $r, $z: $r) -> Self { $e }
+        }
+    )*};
+}
+xyz!(f32: f32 => |_x, _y, z| z, f64: f64 => |_x, _y, z| z,
+    kimpact3d::math::Vector: f32 => |x, y, z| Self::new(x, y, z),
+    kimpact3d_f64::math::Vector: f64 => |x, y, z| Self::new(x, y, z));
 
 /// The kimpact benchmark matrix: time per step against native rapier,
 /// memory and allocations, and scaling.

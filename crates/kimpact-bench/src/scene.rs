@@ -10,7 +10,7 @@ use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
 
 use crate::raw::{Measure, Pair, Solo};
-use crate::{AboutZ, Cli, Effect, Scene, alloc, memory};
+use crate::{AboutZ, Cli, Effect, Scene, Xyz, alloc, memory};
 
 /// A vector with components uniform in `[-speed, speed)`.
 fn random_vector(rng: &mut Xoshiro256PlusPlus, speed: Real) -> Vector {
@@ -217,6 +217,8 @@ impl Bench {
             }
             Scene::Restitution3 | Scene::Restitution2 => Self::restitution(mode),
             Scene::Pinball => Self::pinball(mode, &mut rng),
+            Scene::Dice => Self::dice(mode, balls, &mut rng),
+            Scene::Dominoes => Self::dominoes(mode, balls),
         }
     }
 
