@@ -460,7 +460,7 @@ fn scene_shape(i: usize) -> ColliderBuilder {
 /// What the scene leaves out, rapier's solver path (the hook's) does not
 /// keep to rounding: a body meeting two partners in one step (rapier's
 /// end-of-step restitution drives each contact to its own bounce at once,
-/// which raised a dense 2D scene's energy by up to 0.9% at such steps),
+/// which raised a dense 2D scene's energy by up to 1.2% at such a step),
 /// and in 3D a body whose inertia differs between axes (rapier turns it
 /// through the step of its impact at the angular velocity before the
 /// bounce, and its energy after is measured at that new orientation: a
