@@ -13,6 +13,8 @@ mod d2 {
     include!("cases/calm.rs");
     include!("cases/clamps.rs");
     include!("cases/rigid.rs");
+    include!("cases/rigid_dim2.rs");
+    include!("cases/rigid_modes.rs");
     include!("cases/contract.rs");
     include!("cases/user_worlds.rs");
     include!("cases/settings.rs");
@@ -30,6 +32,8 @@ mod d3 {
     include!("cases/calm.rs");
     include!("cases/clamps.rs");
     include!("cases/rigid.rs");
+    include!("cases/rigid_dim3.rs");
+    include!("cases/rigid_modes.rs");
     include!("cases/contract.rs");
     include!("cases/user_worlds.rs");
     include!("cases/settings.rs");
@@ -47,6 +51,8 @@ mod d2_f64 {
     include!("cases/calm.rs");
     include!("cases/clamps.rs");
     include!("cases/rigid.rs");
+    include!("cases/rigid_dim2.rs");
+    include!("cases/rigid_modes.rs");
     include!("cases/contract.rs");
     include!("cases/user_worlds.rs");
     include!("cases/settings.rs");
@@ -71,6 +77,8 @@ mod d3_f64 {
     include!("cases/calm.rs");
     include!("cases/clamps.rs");
     include!("cases/rigid.rs");
+    include!("cases/rigid_dim3.rs");
+    include!("cases/rigid_modes.rs");
     include!("cases/contract.rs");
     include!("cases/user_worlds.rs");
     include!("cases/settings.rs");

@@ -1,4 +1,4 @@
-// Restitution mode on rigid bodies of any shape (issue 39.2), written once
+// Every law mode on rigid bodies of any shape (issue 39.2), written once
 // for 2D/3D and f32/f64 (included by tests/adapter.rs after
 // cases/adapter.rs, whose imports it uses).
 
@@ -19,10 +19,10 @@ struct BarDrop {
 /// A bar of length `length` and thickness `2 half` (3D: as deep as long),
 /// mass 2, turned by `angle` about z, moving down at `speed` without
 /// gravity onto a fixed floor at y = 0 (frictionless, unmarked), marked,
-/// under the law with wall dissipation `wall` in restitution mode: stepped
+/// under the law with wall dissipation `wall` in law mode `mode`: stepped
 /// until the step of its first impact.
-fn drop_bar(length: Real, half: Real, angle: Real, speed: Real, wall: Real) -> BarDrop {
-    let mut w = TestWorld::new(Mode::Restitution, 0.0, Vector::ZERO);
+fn drop_bar(mode: Mode, length: Real, half: Real, angle: Real, speed: Real, wall: Real) -> BarDrop {
+    let mut w = TestWorld::new(mode, 0.0, Vector::ZERO);
     w.kimpact
         .set_law(LawParams {
             wall_dissipation: Some(wall),
@@ -112,10 +112,11 @@ fn inertia_z(rb: &RigidBody) -> f64 {
     rb.mass_properties().local_mprops.principal_inertia().z()
 }
 
-/// Issue 39.2: restitution mode governs a marked bar (a cuboid on a
-/// dynamic body) landing on its edge at an angle: the law's restitution as
-/// rigid bodies, at the manifold's contact (the lowest edge), written into
-/// rapier's manifold, and reported. Against the impulse formula at a point
+/// Issue 39.2: every law mode governs a marked bar (a cuboid on a dynamic
+/// body: a rod, and a square box) landing on its edge at an angle: the
+/// law's restitution as rigid bodies, at the manifold's contact (the
+/// lowest edge), written into rapier's manifold, and reported (by rapier's
+/// solver: impulse and exact mode replay balls only). Against the impulse formula at a point
 /// evaluated here: the arm `r` from the centre to the lowest edge, the
 /// effective mass `1/m_eff = 1/m + r_x²/I`, `J = m_eff U (1 + e)` along
 /// the normal (up), so `v' = −U + J/m` and `ω' = r_x J / I`; `I = m (L² +
@@ -123,16 +124,22 @@ fn inertia_z(rb: &RigidBody) -> f64 {
 /// kept; with wall dissipation `d̃w` the law's
 /// `e = √(1 − 2 d̃w m/m_eff)` for a body landing without turning, and the
 /// energy less `½ m_eff U² (1 − e²)`. In 3D the edge is two solver
-/// contacts, which restitution mode merges into one at their centroid:
-/// bounced one after the other by rapier's solver they gave a 3% larger
-/// impulse and raised the elastic bar's energy by 2.8%.
+/// contacts, which the hook merges into one at their centroid: bounced
+/// one after the other by rapier's solver they gave a 3% larger impulse
+/// and raised the elastic bar's energy by 2.8%.
 #[test]
-fn restitution_mode_bounces_a_tilted_bar_by_the_rigid_law() {
-    let (length, half, speed) = (2.0 as Real, 0.1 as Real, 3.0 as Real);
-    for angle in [0.3 as Real, 0.6, 1.0] {
+fn every_law_mode_bounces_a_tilted_bar_by_the_rigid_law() {
+    let speed = 3.0 as Real;
+    let cases = LAW_MODES.into_iter().flat_map(|mode| {
+        // A rod, and a square box (a cube in 3D).
+        [(2.0 as Real, 0.1 as Real), (1.0, 0.5)]
+            .into_iter()
+            .flat_map(move |bar| [0.3 as Real, 0.6, 1.0].map(move |angle| (mode, bar, angle)))
+    });
+    for (mode, (length, half), angle) in cases {
         for wall in [0.0 as Real, 0.1] {
-            let case = format!("angle {angle}, d̃w = {wall}");
-            let r = drop_bar(length, half, angle, speed, wall);
+            let case = format!("{mode}, {length} × {}, angle {angle}, d̃w = {wall}", 2.0 * half);
+            let r = drop_bar(mode, length, half, angle, speed, wall);
             let (l, h, th, u) = (
                 f64::from(length),
                 f64::from(half),
@@ -197,41 +204,43 @@ fn marked_box(w: &mut TestWorld, position: Vector, velocity: Vector) -> RigidBod
     b
 }
 
-/// Restitution mode on faces (issue 39.3), elastic, no gravity: a box
+/// Every law mode on faces (issue 39.3), elastic, no gravity: a box
 /// landing flat on a fixed floor (its face is 2 solver contacts in 2D, 4 in
 /// 3D, merged into one at their centroid) leaves at its speed without
 /// turning; two equal boxes meeting face to face exchange their
 /// velocities. One impact each, reported.
 #[test]
-fn restitution_mode_bounces_faces_as_the_law_does() {
+fn every_law_mode_bounces_faces_as_the_law_does() {
     let speed: Real = 3.0;
-    // On the floor (the top of a wall at y = 0).
-    let mut w = TestWorld::new(Mode::Restitution, 0.0, Vector::ZERO);
-    w.wall(Vector::Y * -1.0, Vector::splat(20.0) - Vector::Y * 19.0);
-    let b = marked_box(&mut w, Vector::Y * 0.8, Vector::Y * -speed);
-    for _ in 0..10 {
-        w.step();
+    for mode in LAW_MODES {
+        // On the floor (the top of a wall at y = 0).
+        let mut w = TestWorld::new(mode, 0.0, Vector::ZERO);
+        w.wall(Vector::Y * -1.0, Vector::splat(20.0) - Vector::Y * 19.0);
+        let b = marked_box(&mut w, Vector::Y * 0.8, Vector::Y * -speed);
+        for _ in 0..10 {
+            w.step();
+        }
+        let rb = &w.world.bodies[b];
+        let (v, spin) = (rb.linvel(), rb.angvel());
+        assert_eq!(w.kimpact.stats().impacts, 1, "{mode}: {:?}", w.kimpact.stats());
+        assert!(
+            f64::from((v - Vector::Y * speed).length()) < tol() * f64::from(speed),
+            "{mode}: the box left at {v:?}"
+        );
+        assert!(AboutZ::size(&spin) < tol(), "{mode}: the box turns: {spin:?}");
+        // Face to face.
+        let mut w = TestWorld::new(mode, 0.0, Vector::ZERO);
+        let a = marked_box(&mut w, Vector::X * -0.7, Vector::X * speed);
+        let b = marked_box(&mut w, Vector::X * 0.7, Vector::ZERO);
+        for _ in 0..10 {
+            w.step();
+        }
+        assert_eq!(w.kimpact.stats().impacts, 1, "{mode}: {:?}", w.kimpact.stats());
+        let (va, vb) = (w.vel(a), w.vel(b));
+        assert!(
+            f64::from(va.length()) < tol() * f64::from(speed)
+                && f64::from((vb - Vector::X * speed).length()) < tol() * f64::from(speed),
+            "{mode}: {va:?}, {vb:?}"
+        );
     }
-    let rb = &w.world.bodies[b];
-    let (v, spin) = (rb.linvel(), rb.angvel());
-    assert_eq!(w.kimpact.stats().impacts, 1, "{:?}", w.kimpact.stats());
-    assert!(
-        f64::from((v - Vector::Y * speed).length()) < tol() * f64::from(speed),
-        "the box left at {v:?}"
-    );
-    assert!(AboutZ::size(&spin) < tol(), "the box turns: {spin:?}");
-    // Face to face.
-    let mut w = TestWorld::new(Mode::Restitution, 0.0, Vector::ZERO);
-    let a = marked_box(&mut w, Vector::X * -0.7, Vector::X * speed);
-    let b = marked_box(&mut w, Vector::X * 0.7, Vector::ZERO);
-    for _ in 0..10 {
-        w.step();
-    }
-    assert_eq!(w.kimpact.stats().impacts, 1, "{:?}", w.kimpact.stats());
-    let (va, vb) = (w.vel(a), w.vel(b));
-    assert!(
-        f64::from(va.length()) < tol() * f64::from(speed)
-            && f64::from((vb - Vector::X * speed).length()) < tol() * f64::from(speed),
-        "{va:?}, {vb:?}"
-    );
 }

@@ -40,13 +40,17 @@ pub enum Scene {
     Restitution2,
     /// 2D pinball: 3 balls, a polyline table, bumpers and two flippers.
     Pinball,
+    /// 3D dice: 1,000 cubes of two sizes thrown spinning into a closed box.
+    Dice,
+    /// 2D dominoes: 50 rows of 20 on a floor, each row's first tipped.
+    Dominoes,
 }
 
 impl Scene {
     /// The scene's dimension.
     pub fn dim(self) -> usize {
         match self {
-            Scene::Pit3d | Scene::Gas3d | Scene::Restitution3 => 3,
+            Scene::Pit3d | Scene::Gas3d | Scene::Restitution3 | Scene::Dice => 3,
             _ => 2,
         }
     }
@@ -57,6 +61,7 @@ impl Scene {
             Scene::Billiards => Some(16),
             Scene::Restitution3 | Scene::Restitution2 => Some(22),
             Scene::Pinball => Some(3),
+            Scene::Dice | Scene::Dominoes => Some(1000),
             _ => None,
         }
     }

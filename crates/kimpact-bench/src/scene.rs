@@ -218,6 +218,8 @@ impl Bench {
             }
             Scene::Restitution3 | Scene::Restitution2 => Self::restitution(mode),
             Scene::Pinball => Self::pinball(mode, &mut rng),
+            Scene::Dice => Self::dice(mode, balls, &mut rng),
+            Scene::Dominoes => Self::dominoes(mode, balls),
         }
     }
 

@@ -9,9 +9,10 @@ use kimpact::Precision;
 use crate::cli::Cli;
 
 /// The scenes and one measured run for the adapter crate `$krate`, whose
-/// angles and angular velocities about z are `$about_z` of a scalar.
+/// angles and angular velocities about z are `$about_z` of a scalar, and
+/// from components `[x, y, z]` are `$xyz` of them (2D: the angle `z`).
 macro_rules! build {
-    ($($module:ident: $krate:ident, $about_z:expr;)*) => {$(
+    ($($module:ident: $krate:ident, $about_z:expr, $xyz:expr;)*) => {$(
         mod $module {
             use $krate as k;
 
@@ -20,16 +21,26 @@ macro_rules! build {
                 ($about_z)(a)
             }
 
+            /// An angle or angular velocity of components `[x, y, z]`.
+            fn xyz(
+                x: k::math::Real,
+                y: k::math::Real,
+                z: k::math::Real,
+            ) -> k::rapier::math::AngVector {
+                ($xyz)(x, y, z)
+            }
+
             include!("scene.rs");
             include!("small.rs");
+            include!("rigid_scenes.rs");
         }
     )*};
 }
 build! {
-    d2: kimpact2d, |a| a;
-    d3: kimpact3d, |a| k::math::Vector::Z * a;
-    d2_f64: kimpact2d_f64, |a| a;
-    d3_f64: kimpact3d_f64, |a| k::math::Vector::Z * a;
+    d2: kimpact2d, |a| a, |_, _, z| z;
+    d3: kimpact3d, |a| k::math::Vector::Z * a, k::math::Vector::new;
+    d2_f64: kimpact2d_f64, |a| a, |_, _, z| z;
+    d3_f64: kimpact3d_f64, |a| k::math::Vector::Z * a, k::math::Vector::new;
 }
 
 /// In a child: run what `--pair` or `--solo` asks and print it as JSON.

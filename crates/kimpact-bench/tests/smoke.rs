@@ -1,8 +1,9 @@
 //! The bench binary runs end to end on small configurations and writes
 //! what it says: the billiards scene in every mode and precision over two
-//! rounds, the small scenes in timed blocks over episodes, and a scene at
-//! two sizes (its scaling plot), whose outputs `--rerender` rebuilds from
-//! `raw.json`. The CSV is read back with the type that wrote it. Nothing
+//! rounds, the small scenes in timed blocks over episodes, the rigid-body
+//! scenes (dice, dominoes) with law impacts in every law mode, and a scene
+//! at two sizes (its scaling plot), whose outputs `--rerender` rebuilds
+//! from `raw.json`. The CSV is read back with the type that wrote it. Nothing
 //! here looks at a timing.
 
 mod common;
@@ -108,6 +109,54 @@ fn the_small_scenes_run_in_timed_blocks_over_episodes() {
         // One sample per block: 4 steps in blocks of 2, 3 episodes.
         assert_eq!(r.samples, 6, "{r:?}");
         assert!((r.delta_us - (r.median_us - r.native_median_us)).abs() < 1e-9);
+    }
+}
+
+/// The rigid-body scenes, 1,000 dice (3D) and 1,000 dominoes (2D), run in
+/// every mode against native, timed step by step (not small scenes), and
+/// every law mode reports law impacts of their boxes while measured (steps
+/// 20-29: the dice land on the floor and on each other, the first domino of
+/// each row hits the second at step 26).
+#[test]
+fn the_rigid_scenes_run_in_every_mode_with_law_impacts() {
+    let out = out_dir("rigid");
+    let args = [
+        "--scene",
+        "dice,dominoes",
+        "--precision",
+        "f32",
+        "--warmup",
+        "20",
+        "--steps",
+        "10",
+        "--memory-warmup",
+        "1",
+        "--memory-steps",
+        "1",
+        "--no-attribute",
+    ];
+    let stdout = bench(&args, &out);
+    assert!(stdout.contains("| dice | f32 | 1000 | exact |"), "{stdout}");
+    assert!(
+        stdout.contains("| dominoes | f32 | 1000 | exact |"),
+        "{stdout}"
+    );
+    let rows = rows(&out);
+    // 2 scenes x 4 modes, none failed.
+    assert_eq!(rows.len(), 8, "{rows:?}");
+    for r in &rows {
+        assert_eq!(r.error, None, "a run failed: {r:?}");
+        let dim = if r.scene == "dice" { 3 } else { 2 };
+        assert_eq!((r.balls, r.dim), (1000, dim), "{r:?}");
+        // One sample per step (native's row pools its runs beside every
+        // mode: 3 x 10).
+        if r.mode == Mode::Native {
+            assert_eq!(r.samples, 30, "{r:?}");
+            assert_eq!(r.impacts_per_step, 0.0, "{r:?}");
+        } else {
+            assert_eq!(r.samples, 10, "{r:?}");
+            assert!(r.impacts_per_step > 0.0, "no law impact: {r:?}");
+        }
     }
 }
 

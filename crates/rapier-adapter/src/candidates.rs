@@ -21,11 +21,12 @@ pub(crate) struct Candidate {
     pub start2: LawBody,
     /// Whether the replay resolves the pair after the step (its solver
     /// contacts were cleared); otherwise rapier's solver bounced it with
-    /// the law's restitution (restitution mode), to be reported.
+    /// the law's restitution (a rigid pair, or restitution mode's slow
+    /// balls), to be reported.
     pub by_replay: bool,
-    /// Restitution mode, a pair with a collider of another shape than a
-    /// centred ball on a dynamic body: the law's impact as rigid bodies
-    /// at the manifold's contact, at detection (the report's outcome).
+    /// A pair with a collider of another shape than a centred ball on a
+    /// dynamic body (every law mode): the law's impact as rigid bodies at
+    /// the manifold's contact, at detection (the report's outcome).
     pub rigid: Option<kimpact::RigidImpact<Real, DIM>>,
 }
 

@@ -23,9 +23,11 @@ pub struct ImpactEvent {
     /// it (see `by_solver`).
     pub time: Real,
     /// `true` when rapier's solver applied the law's restitution for this
-    /// impact (`Restitution` mode, for a pair of bodies slower than half
-    /// their size per step): rapier's contact impulses include it.
-    /// `false` when kimpact changed the velocities itself.
+    /// impact (in every law mode, a pair with a marked collider of another
+    /// shape than a ball centred on a dynamic body; in `Restitution` mode,
+    /// also a pair of balls slower than a quarter of their size per step):
+    /// rapier's contact impulses include it. `false` when kimpact changed
+    /// the velocities itself.
     pub by_solver: bool,
     /// The contact point (world space) at the impact.
     pub point: Vector,

@@ -12,6 +12,7 @@ use crate::math::{Real, Vector};
 use crate::mode::Mode;
 use crate::prepare::Prepare;
 use crate::rapier::prelude::*;
+use crate::rigid_view::point_velocity;
 
 /// The [`PhysicsHooks`] of one step, from [`crate::Kimpact::hooks`]: pass it
 /// to `PhysicsPipeline::step` between [`crate::Kimpact::before_step`] and
@@ -252,15 +253,18 @@ impl StepHooks<'_> {
 
     /// Every law mode, a pair with a marked collider of another shape than
     /// a centred ball on a dynamic body: the law's restitution for the two
-    /// as rigid bodies at the manifold's contact (the centroid of its
-    /// solver contacts, their velocities at the start of the step),
-    /// written into the manifold for rapier's solver, whose solver contacts
-    /// are merged into one there; no bounce when the contact points close
-    /// at most at the rest speed. With impact friction, the manifold's
-    /// friction coefficient is the pair's `μ` for a fresh impact. The pair
-    /// is never the replay's (which moves bodies as points, in impulse and
-    /// exact mode too) and has no graze test (its cast is linear, the
-    /// bodies turn).
+    /// as rigid bodies at the manifold's contact, written into the manifold
+    /// for rapier's solver. The contact is the centroid of the solver
+    /// contacts whose material points close (their velocities at the start
+    /// of the step), which are merged into one there; the others (the
+    /// corner a rocking box pivots on) stay as they are, and rapier's
+    /// solver never bounces them (its restitution takes only the contacts
+    /// that close). No bounce when the contact points close at most at the
+    /// rest speed. With impact friction, the manifold's friction
+    /// coefficient is the pair's `μ` for a fresh impact. The pair is never
+    /// the replay's (which moves bodies as points, in impulse and exact
+    /// mode too) and has no graze test (its cast is linear, the bodies
+    /// turn).
     fn respond_rigid(&self, context: &mut ContactModificationContext, frame: &StepFrame) {
         let (bodies, rb1, rb2) = (context.bodies, context.rigid_body1, context.rigid_body2);
         let (c1, c2) = (context.collider1, context.collider2);
@@ -272,8 +276,7 @@ impl StepHooks<'_> {
         let Some(rigid) = context.rigid_mut() else {
             return;
         };
-        let count = rigid.solver_contacts.len();
-        if count == 0 {
+        if rigid.solver_contacts.is_empty() {
             return;
         }
         if !(b1.is_finite() && b2.is_finite()) {
@@ -282,17 +285,33 @@ impl StepHooks<'_> {
             return;
         }
         let n = *rigid.normal;
-        let fresh = rigid
-            .solver_contacts
-            .iter()
-            .all(|c| c.contact_id[0] & NEW_CONTACT_BIT != 0);
-        let (sum, dist) = rigid
-            .solver_contacts
-            .iter()
-            .fold((Vector::ZERO, Real::MAX), |(sum, dist), c| {
-                (sum + (c.anchor1 + c.anchor2) * 0.5, dist.min(c.dist))
-            });
-        let point = sum / count as Real;
+        // Whether a solver contact's material points close along the
+        // normal (a NaN fails: not closing).
+        let closes = |c: &SolverContact| {
+            let point = (c.anchor1 + c.anchor2) * 0.5;
+            let u = point_velocity(bodies, rb2, point) - point_velocity(bodies, rb1, point);
+            -u.dot(n) > 0.0
+        };
+        let mut first = None;
+        let (mut a1, mut a2, mut gap, mut dist) = (Vector::ZERO, Vector::ZERO, 0.0, Real::MAX);
+        let (mut count, mut fresh) = (0usize, true);
+        for (i, c) in rigid.solver_contacts.iter().enumerate() {
+            if closes(c) {
+                first.get_or_insert(i);
+                a1 += c.anchor1;
+                a2 += c.anchor2;
+                gap += c.dist;
+                dist = dist.min(c.dist);
+                count += 1;
+                fresh &= c.contact_id[0] & NEW_CONTACT_BIT != 0;
+            }
+        }
+        let Some(first) = first else {
+            *rigid.restitution = 0.0;
+            return;
+        };
+        let inverse = 1.0 / count as Real;
+        let point = (a1 + a2) * (0.5 * inverse);
         let law = self.marks.law(self.law, c1, c2);
         let friction = self.marks.friction(c1, c2);
         let impact =
@@ -311,18 +330,15 @@ impl StepHooks<'_> {
         // impact. One contact at the centroid takes the law's impulse
         // exactly (a single constraint: the contact point leaves at `e U`).
         if count > 1 {
-            let inverse = 1.0 / count as Real;
-            let (a1, a2, gap) = rigid
-                .solver_contacts
-                .iter()
-                .fold((Vector::ZERO, Vector::ZERO, 0.0), |(a1, a2, gap), c| {
-                    (a1 + c.anchor1, a2 + c.anchor2, gap + c.dist)
-                });
-            let first = &mut rigid.solver_contacts[0];
-            first.anchor1 = a1 * inverse;
-            first.anchor2 = a2 * inverse;
-            first.dist = gap * inverse;
-            rigid.solver_contacts.truncate(1);
+            for i in (first + 1..rigid.solver_contacts.len()).rev() {
+                if closes(&rigid.solver_contacts[i]) {
+                    rigid.solver_contacts.remove(i);
+                }
+            }
+            let merged = &mut rigid.solver_contacts[first];
+            merged.anchor1 = a1 * inverse;
+            merged.anchor2 = a2 * inverse;
+            merged.dist = gap * inverse;
         }
         if rough {
             // The law's tangential part as rapier's friction: the solver

@@ -91,10 +91,19 @@ pub(crate) struct Carried {
 pub(crate) struct Prepare {
     /// Per collider index: whether `MODIFY_SOLVER_CONTACTS` is set by us.
     pub ours: Vec<bool>,
-    /// Colliders whose hook flag we set this step.
+    /// Colliders whose hook flag we set this step, but for those in
+    /// `rigid`: in impulse and exact mode, the colliders the replay sweeps.
     pub flagged: Vec<ColliderHandle>,
+    /// Extended colliders of dynamic bodies (not balls centred on their
+    /// body, see `marks::is_point_collider`) whose hook flag we set this
+    /// step: the hook governs their pairs as rigid bodies at the manifold's
+    /// contact in every law mode, and the replay, which moves bodies as
+    /// points, never sweeps them.
+    pub rigid: Vec<ColliderHandle>,
     /// Scratch of `run`: last step's `flagged`.
     previous: Vec<ColliderHandle>,
+    /// Scratch of `run`: last step's `rigid`.
+    previous_rigid: Vec<ColliderHandle>,
     /// Per collider index: the step (`epoch`) at which it was last flagged.
     seen: Vec<u32>,
     /// Per collider index: the step (`epoch`) at which it was flagged while
@@ -136,7 +145,9 @@ impl Prepare {
     /// What this carries to the next step.
     pub(crate) fn carried(&self) -> Carried {
         Carried {
-            hooked: self.flagged.clone(),
+            // Every collider carrying our flag (the restored step clears
+            // those it does not flag again).
+            hooked: self.flagged.iter().chain(&self.rigid).copied().collect(),
             marked_since_step: self.pending.clone(),
             woken: self.woken.clone(),
             calm: self.calm.schedule,
@@ -199,6 +210,8 @@ impl Prepare {
         self.epoch = self.epoch.wrapping_add(1).max(1);
         std::mem::swap(&mut self.previous, &mut self.flagged);
         self.flagged.clear();
+        std::mem::swap(&mut self.previous_rigid, &mut self.rigid);
+        self.rigid.clear();
         self.swept.clear();
         self.to_wake.clear();
         if mode != Mode::Native {
@@ -254,8 +267,21 @@ impl Prepare {
             self.woken.clear();
         }
         // Last step's flags not renewed: cleared.
-        for i in 0..self.previous.len() {
-            let handle = self.previous[i];
+        let previous = std::mem::take(&mut self.previous);
+        self.unflag_stale(&previous, colliders);
+        self.previous = previous;
+        self.previous.clear();
+        let previous = std::mem::take(&mut self.previous_rigid);
+        self.unflag_stale(&previous, colliders);
+        self.previous_rigid = previous;
+        self.previous_rigid.clear();
+        calm_bodies
+    }
+
+    /// Clear our hook flag on the colliders of `previous` (flagged last
+    /// step) not flagged again this step.
+    fn unflag_stale(&mut self, previous: &[ColliderHandle], colliders: &mut ColliderSet) {
+        for &handle in previous {
             let (index, _) = handle.into_raw_parts();
             let index = index as usize;
             if self.seen.get(index) == Some(&self.epoch) {
@@ -268,8 +294,6 @@ impl Prepare {
                 *o = false;
             }
         }
-        self.previous.clear();
-        calm_bodies
     }
 
     /// Whether collider `ch` is one of this step's swept colliders: in
@@ -457,11 +481,11 @@ impl Prepare {
             0.0
         };
         for &ch in rb.colliders() {
-            // An extended collider on a dynamic body is rapier's (see
-            // `Marks::governs`), but for restitution mode's rigid
-            // restitution: no hook for it otherwise.
+            // An extended collider on a dynamic body: the hook governs its
+            // pairs as rigid bodies (see `Marks::governs_rigid`) in every
+            // law mode; the replay never sweeps it (`Prepare::rigid`).
             let extended = marks.is_extended(ch);
-            if !partner && (!marks.contains(ch) || (extended && !step.restitution)) {
+            if !partner && !marks.contains(ch) {
                 continue;
             }
             any_marked = true;
@@ -494,7 +518,11 @@ impl Prepare {
             }
             // Ours since last step (`carried`): kept, untouched.
             self.seen[index] = self.epoch;
-            self.flagged.push(ch);
+            if extended && rb.is_dynamic() {
+                self.rigid.push(ch);
+            } else {
+                self.flagged.push(ch);
+            }
             flagged = true;
             if self.touched.len() <= index {
                 self.touched.resize_with(index + 1, || AtomicU32::new(0));

@@ -183,17 +183,16 @@ impl Kimpact {
     /// until the collider's body moves; marking a marked collider again
     /// changes nothing.
     ///
-    /// In `Impulse` and `Exact` the law moves bodies as points, so it
-    /// governs a dynamic body's collider only if it is a ball centred on
-    /// the body's origin (read when marking: mark again after changing the
-    /// shape); a marked collider of any other shape on a dynamic body keeps
-    /// rapier's own response there, with its own restitution, as if it were
-    /// not marked. In `Restitution` a marked collider of any shape follows
-    /// the law for rigid bodies (`kimpact::Law::resolve_rigid`): the
-    /// restitution of its impacts is the law's at the manifold's contact
-    /// (the centroid of its solver contacts, which rapier's solver then
-    /// takes as one), with the effective mass of both bodies there, and
-    /// the impacts are reported. As a fixed or kinematic partner any shape
+    /// A ball centred on its dynamic body's origin follows the law as a
+    /// point (in `Impulse` and `Exact`, replayed at its time of impact).
+    /// Whether it is one is read when marking: mark again after changing
+    /// the shape. A marked collider of any other shape on a dynamic body
+    /// follows the law for rigid bodies (`kimpact::Law::resolve_rigid`) in
+    /// every law mode: the restitution of its impacts is the law's at the
+    /// manifold's contact (the centroid of its solver contacts, which
+    /// rapier's solver then takes as one), with the effective mass of both
+    /// bodies there, applied by rapier's solver and reported (no replay at
+    /// the time of impact). As a fixed or kinematic partner any shape
     /// follows the law.
     ///
     /// # Errors
@@ -437,14 +436,14 @@ impl Kimpact {
         }
     }
 
-    /// Stage 3, after `PhysicsPipeline::step`: finishes the step `prepared`
-    /// ([`Kimpact::before_step`]'s) with the replay of its impacts in time
-    /// order (positions and velocities of the bodies it bends are written
-    /// into `bodies`): every governed impact in `Impulse` and `Exact` mode,
-    /// those of the bodies too fast for rapier's contacts in `Restitution`
-    /// mode, which also reports the impacts rapier's solver bounced with
-    /// the law's restitution. Fills [`Kimpact::events`] and
-    /// [`Kimpact::stats`].
+    /// Stage 3, after `PhysicsPipeline::step`: the replay of the step's
+    /// impacts in time order (positions and velocities of the bodies it
+    /// bends are written into `bodies`): every impact governed by the point
+    /// law in `Impulse` and `Exact` mode, those of the bodies too fast for
+    /// rapier's contacts in `Restitution` mode; and the report of the
+    /// impacts rapier's solver bounced with the law's restitution (every
+    /// mode's rigid bodies, restitution mode's slow balls). Fills
+    /// [`Kimpact::events`] and [`Kimpact::stats`].
     ///
     /// Takes rapier's sets as its step left them, and the user's hooks
     /// (`hooks`, or `&()`) given to [`Kimpact::hooks`]: they and the joints
@@ -474,13 +473,14 @@ impl Kimpact {
         match mode {
             Mode::Native => {}
             Mode::Restitution | Mode::Impulse | Mode::Exact => {
-                if mode == Mode::Restitution {
-                    self.report_restitution(narrow_phase);
-                    if self.prepare.swept.is_empty() {
-                        // Nothing too fast for rapier's contacts: every
-                        // impact was rapier's solver's.
-                        return;
-                    }
+                // The impacts rapier's solver bounced with the law's
+                // restitution: every mode's rigid bodies, restitution
+                // mode's slow balls.
+                self.report_by_solver(narrow_phase);
+                if mode == Mode::Restitution && self.prepare.swept.is_empty() {
+                    // Nothing too fast for rapier's contacts: every impact
+                    // was rapier's solver's.
+                    return;
                 }
                 // Restitution mode sweeps only its fast bodies.
                 let swept = match mode {
@@ -514,16 +514,18 @@ impl Kimpact {
         }
     }
 
-    /// Restitution mode: rapier's solver applied the law's restitution;
-    /// report the law's outcome for the velocities it saw at detection, for
-    /// each pair whose contact carried an impulse this step.
+    /// The pairs rapier's solver bounced with the law's restitution (in
+    /// every law mode those of a marked collider of another shape than a
+    /// centred ball on a dynamic body, in restitution mode also the slow
+    /// balls'): report the law's outcome for the velocities it saw at
+    /// detection, for each pair whose contact carried an impulse this step.
     ///
     /// The impulses are read from the manifolds rapier's solver solved
     /// (`ContactPair::solver_manifolds`): where rapier clusters a composite
     /// shape's manifolds (`IntegrationParameters::contact_clustering`, a
     /// trimesh in 3D) the solver's impulses are in the clusters, and the
     /// per-triangle manifolds keep none.
-    fn report_restitution(&mut self, narrow_phase: &NarrowPhase) {
+    fn report_by_solver(&mut self, narrow_phase: &NarrowPhase) {
         for c in self.candidates.sorted() {
             if c.by_replay {
                 continue;

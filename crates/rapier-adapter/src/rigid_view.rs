@@ -1,6 +1,6 @@
 //! How the law sees a rapier body as a rigid body (mass, velocity, angular
 //! velocity, world inverse inertia, centre of mass), for the pairs of a
-//! marked collider of any shape on a dynamic body that restitution mode
+//! marked collider of any shape on a dynamic body that every law mode
 //! governs at the manifold's contact ([`kimpact::Law::resolve_rigid`]).
 
 use kimpact::{Contact, ImpactFriction, Law, Mass, RigidImpact};
@@ -67,6 +67,18 @@ fn rigid(
         (Mass::Infinite, _) => LawRigid::immovable(velocity, omega),
     };
     Some((body.ok()?, rb.map(|rb| rb.center_of_mass())))
+}
+
+/// The velocity of the material point at `point` of the body `parent`
+/// (`v + ω × (point − c)`); zero without a body.
+pub(crate) fn point_velocity(
+    bodies: &RigidBodySet,
+    parent: Option<RigidBodyHandle>,
+    point: Vector,
+) -> Vector {
+    parent
+        .and_then(|h| bodies.get(h))
+        .map_or(Vector::ZERO, |rb| rb.velocity_at_point(point))
 }
 
 /// The law's impact of the pair of bodies `p1`, `p2` (as the law sees
