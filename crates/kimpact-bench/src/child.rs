@@ -61,6 +61,9 @@ fn child_args(cli: &Cli, solo: bool, (scene, balls, precision): Config, mode: Mo
         (solo && !cli.no_attribute, "--attribute"),
     ];
     args.extend(flags.iter().filter(|f| f.0).map(|f| f.1.to_owned()));
+    if let Some(threads) = cli.threads {
+        args.extend(["--threads".to_owned(), threads.to_string()]);
+    }
     if let Some(effect) = cli.effect {
         args.extend(["--effect".to_owned(), effect.name().to_owned()]);
     }
@@ -119,11 +122,26 @@ pub fn measure_group(cli: &Cli, config: Config, modes: &[Mode], progress: impl F
 /// In a child: run what `--pair` or `--solo` asks and print it as JSON.
 pub fn child_main(cli: &Cli) -> ExitCode {
     let (scene, precision) = (cli.scene[0], cli.precision[0]);
-    let json = match (scene.dim(), precision) {
+    let run = || match (scene.dim(), precision) {
         (2, Precision::F32) => d2::run(cli),
         (2, Precision::F64) => d2_f64::run(cli),
         (_, Precision::F32) => d3::run(cli),
         (_, Precision::F64) => d3_f64::run(cli),
+    };
+    // `--threads`: the steps run inside a pool of that many threads (rapier
+    // and kimpact's passes use the pool they run in).
+    let pool = cli.threads.map(|n| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n.into())
+            .build()
+    });
+    let json = match pool {
+        None => run(),
+        Some(Ok(pool)) => pool.install(run),
+        Some(Err(e)) => {
+            eprintln!("cannot start {} threads: {e}", cli.threads.unwrap_or(0));
+            return ExitCode::FAILURE;
+        }
     };
     println!("{json}");
     ExitCode::SUCCESS

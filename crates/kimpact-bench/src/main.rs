@@ -232,6 +232,10 @@ pub struct Cli {
     /// Rebuild the table, CSV and plots from `<out>/raw.json`.
     #[arg(long)]
     pub rerender: bool,
+    /// Run each child's steps (native's and the modes') on a rayon pool of
+    /// this many threads (builds with the `parallel` feature).
+    #[arg(long, value_parser = clap::value_parser!(u16).range(1..))]
+    pub threads: Option<u16>,
     /// Internal: one timing pair (native and the mode), printed as JSON.
     #[arg(long, hide = true)]
     pub pair: bool,
@@ -269,6 +273,10 @@ fn set<T: Ord + Copy>(items: impl IntoIterator<Item = T>) -> Vec<T> {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     HOOK_NATIVE.store(cli.hook_native, Ordering::Relaxed);
+    if cli.threads.is_some() && !cfg!(feature = "parallel") {
+        eprintln!("--threads needs a build with the `parallel` feature");
+        return ExitCode::FAILURE;
+    }
     if cli.pair || cli.solo {
         return child::child_main(&cli);
     }
