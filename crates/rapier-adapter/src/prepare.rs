@@ -130,7 +130,7 @@ pub(crate) struct Prepare {
 }
 
 /// What the parallel pass over the awake bodies reads of one
-/// (`Prepare::scan_active`).
+/// (`Prepare::scan_parallel`).
 #[cfg(feature = "parallel")]
 #[derive(Copy, Clone)]
 enum Scan {
@@ -286,9 +286,25 @@ impl Prepare {
     }
 
     /// The pass over the awake bodies: each fast one flagged, a slow one's
-    /// start stored. The number of fast dynamic bodies.
-    #[cfg(not(feature = "parallel"))]
+    /// start stored; its reads on rayon's pool with `parallel`, unless
+    /// fewer than `SCAN_RUN` bodies are awake (the same stores and flags
+    /// either way). The number of fast dynamic bodies.
     fn scan_active(
+        &mut self,
+        islands: &IslandManager,
+        bodies: &RigidBodySet,
+        colliders: &mut ColliderSet,
+        step: &FlagStep,
+    ) -> usize {
+        #[cfg(feature = "parallel")]
+        if islands.num_active_bodies() >= SCAN_RUN {
+            return self.scan_parallel(islands, bodies, colliders, step);
+        }
+        self.scan_serial(islands, bodies, colliders, step)
+    }
+
+    /// [`Prepare::scan_active`] on this thread.
+    fn scan_serial(
         &mut self,
         islands: &IslandManager,
         bodies: &RigidBodySet,
@@ -311,14 +327,14 @@ impl Prepare {
         fast
     }
 
-    /// [`Prepare::scan_active`] with its reads on
+    /// [`Prepare::scan_serial`] with its reads on
     /// rayon's pool: each body's speed judged and a slow body's start read
     /// there, in chunks, into `scans` (in the order of the active bodies);
     /// then, in that order, the starts stored and the fast bodies flagged
     /// here. The same stores and flags as the serial pass, in the same
     /// order, at any number of threads. The number of fast dynamic bodies.
     #[cfg(feature = "parallel")]
-    fn scan_active(
+    fn scan_parallel(
         &mut self,
         islands: &IslandManager,
         bodies: &RigidBodySet,
