@@ -335,7 +335,6 @@ pub(crate) struct Replay {
     /// Runs that swept in bulk (for the unit tests).
     #[cfg(test)]
     pub(crate) bulk_sweeps: u64,
-    /// Scratch of the bulk sweep's passes on rayon's pool.
     #[cfg(feature = "parallel")]
     par: sweep::ParScratch,
 }
