@@ -137,7 +137,10 @@ pub fn child_main(cli: &Cli) -> ExitCode {
     });
     let json = match pool {
         None => run(),
-        Some(Ok(pool)) => pool.install(run),
+        Some(Ok(pool)) => {
+            crate::memory::time_by_wall_clock();
+            pool.install(run)
+        }
         Some(Err(e)) => {
             eprintln!("cannot start {} threads: {e}", cli.threads.unwrap_or(0));
             return ExitCode::FAILURE;

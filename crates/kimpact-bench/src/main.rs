@@ -233,7 +233,8 @@ pub struct Cli {
     #[arg(long)]
     pub rerender: bool,
     /// Run each child's steps (native's and the modes') on a rayon pool of
-    /// this many threads (builds with the `parallel` feature).
+    /// this many threads, timed by the wall clock (builds with the
+    /// `parallel` feature).
     #[arg(long, value_parser = clap::value_parser!(u16).range(1..))]
     pub threads: Option<u16>,
     /// Internal: one timing pair (native and the mode), printed as JSON.
