@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # The determinism check (CI step): build tests/determinism in release without
 # and with rapier's `parallel` feature (both with `enhanced-determinism`), run
-# it sequentially and in parallel with rayon's pool at 1 and 2 threads, and
-# require identical hashes of every body's final position and velocity.
+# it sequentially and in parallel with rayon's pool at 1, 2 and 4 threads
+# (rapier's passes and kimpact's own), and require identical hashes of every
+# body's final position and velocity.
 #
-#   tests/determinism/run.sh              # all three runs
+#   tests/determinism/run.sh              # all four runs
 #   DETERMINISM_PARALLEL_ONLY=1 tests/determinism/run.sh
-#                                         # only the parallel build (1 vs 2 threads)
+#                                         # only the parallel build (1, 2, 4 threads)
 set -euo pipefail
 cd "$(dirname "$0")"
 # Under the main workspace's target/ so that CI caches it with the rest.
@@ -32,7 +33,8 @@ fi
 cargo build --release --locked --features parallel
 RAYON_NUM_THREADS=1 "$bin" > "$out/parallel-1.txt"
 RAYON_NUM_THREADS=2 "$bin" > "$out/parallel-2.txt"
-runs+=(parallel-1 parallel-2)
+RAYON_NUM_THREADS=4 "$bin" > "$out/parallel-4.txt"
+runs+=(parallel-1 parallel-2 parallel-4)
 
 status=0
 if [ "$(sources)" != "$before" ]; then

@@ -67,6 +67,9 @@ fn child_args(cli: &Cli, solo: bool, (scene, balls, precision): Config, mode: Mo
         (solo && !cli.no_attribute, "--attribute"),
     ];
     args.extend(flags.iter().filter(|f| f.0).map(|f| f.1.to_owned()));
+    if let Some(threads) = cli.threads {
+        args.extend(["--threads".to_owned(), threads.to_string()]);
+    }
     if let Some(effect) = cli.effect {
         args.extend(["--effect".to_owned(), name(effect)]);
     }

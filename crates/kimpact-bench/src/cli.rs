@@ -170,6 +170,11 @@ pub struct Cli {
     /// Rebuild the table, CSV and plots from `<out>/raw.json`.
     #[arg(long)]
     pub rerender: bool,
+    /// Run each child's steps (native's and the modes') on a rayon pool of
+    /// this many threads, timed by the wall clock (builds with the
+    /// `parallel` feature).
+    #[arg(long, value_parser = clap::value_parser!(u16).range(1..))]
+    pub threads: Option<u16>,
     /// Internal: one timing pair (native and the mode), printed as JSON.
     #[arg(long, hide = true)]
     pub pair: bool,

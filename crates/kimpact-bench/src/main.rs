@@ -35,6 +35,10 @@ static ALLOCATOR: alloc::Counting = alloc::Counting;
 fn main() -> ExitCode {
     let cli = Cli::parse();
     HOOK_NATIVE.store(cli.hook_native, Ordering::Relaxed);
+    if cli.threads.is_some() && !cfg!(feature = "parallel") {
+        eprintln!("--threads needs a build with the `parallel` feature");
+        return ExitCode::FAILURE;
+    }
     if cli.pair || cli.solo {
         return worlds::child_main(&cli);
     }

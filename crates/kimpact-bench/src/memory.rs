@@ -1,4 +1,7 @@
-//! Peak resident memory and CPU time of this process.
+//! Peak resident memory of this process, and the clock its steps are timed
+//! by.
+
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// `VmHWM` from `/proc/self/status`, in KiB (0 where there is none).
 pub fn peak_rss_kib() -> u64 {
@@ -12,14 +15,29 @@ pub fn peak_rss_kib() -> u64 {
         .unwrap_or(0)
 }
 
-/// CPU time used by this process so far (all threads), in microseconds.
-pub fn process_cpu_us() -> f64 {
+/// Whether steps are timed by the wall clock (`--threads`: the CPU time of
+/// a pool of threads is their sum, not the step's duration).
+static WALL_CLOCK: AtomicBool = AtomicBool::new(false);
+
+/// Time steps by the wall clock from now on.
+pub fn time_by_wall_clock() {
+    WALL_CLOCK.store(true, Ordering::Relaxed);
+}
+
+/// The clock steps are timed by, in microseconds: CPU time used by this
+/// process so far (all threads), or after [`time_by_wall_clock`] the
+/// monotonic wall clock.
+pub fn step_clock_us() -> f64 {
     let mut ts = libc::timespec {
         tv_sec: 0,
         tv_nsec: 0,
     };
-    // SAFETY: `ts` is a valid, writable timespec; the clock id is a constant
-    // every Linux knows. On failure `ts` stays zero.
-    unsafe { libc::clock_gettime(libc::CLOCK_PROCESS_CPUTIME_ID, &mut ts) };
+    let clock = match WALL_CLOCK.load(Ordering::Relaxed) {
+        true => libc::CLOCK_MONOTONIC,
+        false => libc::CLOCK_PROCESS_CPUTIME_ID,
+    };
+    // SAFETY: `ts` is a valid, writable timespec; the clock ids are
+    // constants every Linux knows. On failure `ts` stays zero.
+    unsafe { libc::clock_gettime(clock, &mut ts) };
     ts.tv_sec as f64 * 1e6 + ts.tv_nsec as f64 / 1e3
 }

@@ -294,11 +294,11 @@ impl Bench {
 fn measured_block(bench: &mut Bench, n: usize, whole: bool, m: &mut Measure) {
     let per_sample = if whole { n } else { 1 };
     for _ in 0..n / per_sample {
-        let (count, cpu) = (alloc::count(), memory::process_cpu_us());
+        let (count, cpu) = (alloc::count(), memory::step_clock_us());
         for _ in 0..per_sample {
             bench.step();
         }
-        let cpu = memory::process_cpu_us() - cpu;
+        let cpu = memory::step_clock_us() - cpu;
         m.allocs += alloc::count() - count;
         m.cpu_us.push(cpu / per_sample as f64);
     }

@@ -45,11 +45,29 @@ build! {
 
 /// In a child: run what `--pair` or `--solo` asks and print it as JSON.
 pub fn child_main(cli: &Cli) -> ExitCode {
-    let json = match (cli.scene[0].dim(), cli.precision[0]) {
+    let run = || match (cli.scene[0].dim(), cli.precision[0]) {
         (2, Precision::F32) => d2::run(cli),
         (2, Precision::F64) => d2_f64::run(cli),
         (_, Precision::F32) => d3::run(cli),
         (_, Precision::F64) => d3_f64::run(cli),
+    };
+    // `--threads`: the steps run inside a pool of that many threads (rapier
+    // and kimpact's passes use the pool they run in).
+    let pool = cli.threads.map(|n| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n.into())
+            .build()
+    });
+    let json = match pool {
+        None => run(),
+        Some(Ok(pool)) => {
+            crate::memory::time_by_wall_clock();
+            pool.install(run)
+        }
+        Some(Err(e)) => {
+            eprintln!("cannot start {} threads: {e}", cli.threads.unwrap_or(0));
+            return ExitCode::FAILURE;
+        }
     };
     println!("{json}");
     ExitCode::SUCCESS

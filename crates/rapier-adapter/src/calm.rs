@@ -165,6 +165,19 @@ struct Scratch {
     one_by_one: Vec<(Aabb, Vector, u32)>,
     grid: SweepGrid,
     region: Option<Aabb>,
+    /// Scratch of the join on rayon's pool (`parallel`).
+    #[cfg(feature = "parallel")]
+    verdicts: Vec<Verdict>,
+}
+
+/// What the join of the members' boxes makes of two members whose boxes
+/// meet (none: they are one body's, or neither apart nor in contact reach).
+#[derive(Copy, Clone)]
+enum Verdict {
+    /// Velocities more than the rest speed apart: neither is calm.
+    Apart(u32, u32),
+    /// In contact reach and calm together: a pair kept unhooked.
+    Kept,
 }
 
 impl Calm {
@@ -348,19 +361,40 @@ impl Calm {
             };
         }
         let mut kept = 0;
-        s.grid.self_join(|a, b| {
+        // Two members whose boxes meet, judged.
+        let verdict = |a: u32, b: u32| {
             let (i, j) = (in_grid[a as usize] as usize, in_grid[b as usize] as usize);
             let (p, q) = (&members[i], &members[j]);
             if p.body == q.body {
-                return;
-            }
-            if apart(p.velocity, q.velocity) {
-                calm[i] = false;
-                calm[j] = false;
+                None
+            } else if apart(p.velocity, q.velocity) {
+                Some(Verdict::Apart(i as u32, j as u32))
             } else if p.contact.intersects(&q.contact) {
-                kept += 1;
+                Some(Verdict::Kept)
+            } else {
+                None
             }
-        });
+        };
+        let mut apply = |v: Verdict| match v {
+            Verdict::Apart(i, j) => {
+                calm[i as usize] = false;
+                calm[j as usize] = false;
+            }
+            Verdict::Kept => kept += 1,
+        };
+        #[cfg(not(feature = "parallel"))]
+        s.grid
+            .self_join(|a, b| verdict(a, b).into_iter().for_each(&mut apply));
+        #[cfg(feature = "parallel")]
+        {
+            // Judged on rayon's pool; applied here (in any order: the
+            // same flags and count).
+            let mut verdicts = std::mem::take(&mut s.verdicts);
+            verdicts.clear();
+            s.grid.par_self_join(verdict, &mut verdicts);
+            verdicts.iter().copied().for_each(&mut apply);
+            s.verdicts = verdicts;
+        }
         for &(aabb, velocity, own) in &s.one_by_one {
             let body = members.get(own as usize).map(|m| m.body);
             s.grid.overlaps(&aabb, |g| {

@@ -19,6 +19,8 @@ use crate::calm::{Calm, CalmSchedule, Frame};
 use crate::frame::StepFrame;
 use crate::marks::Marks;
 use crate::math::Real;
+#[cfg(feature = "parallel")]
+use crate::math::Vector;
 use crate::mode::Mode;
 use crate::rapier::prelude::*;
 
@@ -139,7 +141,33 @@ pub(crate) struct Prepare {
     /// This step's `ResolverConfig::fixed_partners`: whether a moving kinematic
     /// body's colliders are flagged (see [`Prepare::flag`]).
     partners: bool,
+    /// Scratch of the parallel pass: the awake bodies.
+    #[cfg(feature = "parallel")]
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    active: Vec<RigidBodyHandle>,
+    /// Scratch of the parallel pass: what it read of each awake body.
+    #[cfg(feature = "parallel")]
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    scans: Vec<Scan>,
 }
+
+/// What the parallel pass over the awake bodies reads of one
+/// (`Prepare::scan_parallel`).
+#[cfg(feature = "parallel")]
+#[derive(Copy, Clone)]
+enum Scan {
+    /// Not in the body set.
+    Gone,
+    /// Faster than half the rest speed: flagged by the serial part.
+    Fast,
+    /// Slower: its start of the step.
+    Slow(Vector),
+}
+
+/// Awake bodies per task of the parallel pass at least (a task reads a
+/// few cache lines per body).
+#[cfg(feature = "parallel")]
+const SCAN_RUN: usize = 256;
 
 impl Prepare {
     /// What this carries to the next step.
@@ -215,7 +243,6 @@ impl Prepare {
         self.swept.clear();
         self.to_wake.clear();
         if mode != Mode::Native {
-            let threshold = step.threshold;
             let fast = if input.calm_neighbourhoods && self.calm.wanted() {
                 let (fast, calm) = self.prepare_calm(input, &step, colliders);
                 calm_bodies = calm;
@@ -231,19 +258,7 @@ impl Prepare {
                 // the rest at once, while its lines are in the cache (a
                 // second pass over the fast bodies missed them again in a
                 // gas, where all are fast).
-                let mut fast = 0;
-                for handle in islands.active_bodies() {
-                    let Some(rb) = bodies.get(handle) else {
-                        continue;
-                    };
-                    if rb.linvel().length_squared() > threshold * threshold {
-                        fast += usize::from(rb.is_dynamic());
-                        self.prepare_rb(handle, rb, colliders, &step);
-                    } else {
-                        self.starts.store(handle, rb.translation());
-                    }
-                }
-                fast
+                self.scan_active(islands, bodies, colliders, &step)
             };
             self.calm.schedule.last_fast = u32::try_from(fast).unwrap_or(u32::MAX);
             self.calm.schedule.last_awake =
@@ -345,6 +360,95 @@ impl Prepare {
                 rb.wake_up(true);
             }
         }
+    }
+
+    /// The pass over the awake bodies: each fast one flagged, a slow one's
+    /// start stored; its reads on rayon's pool with `parallel`, unless
+    /// fewer than `SCAN_RUN` bodies are awake (the same stores and flags
+    /// either way). The number of fast dynamic bodies.
+    fn scan_active(
+        &mut self,
+        islands: &IslandManager,
+        bodies: &RigidBodySet,
+        colliders: &mut ColliderSet,
+        step: &FlagStep,
+    ) -> usize {
+        #[cfg(feature = "parallel")]
+        if islands.num_active_bodies() >= SCAN_RUN {
+            return self.scan_parallel(islands, bodies, colliders, step);
+        }
+        self.scan_serial(islands, bodies, colliders, step)
+    }
+
+    /// [`Prepare::scan_active`] on this thread.
+    fn scan_serial(
+        &mut self,
+        islands: &IslandManager,
+        bodies: &RigidBodySet,
+        colliders: &mut ColliderSet,
+        step: &FlagStep,
+    ) -> usize {
+        let threshold = step.threshold;
+        let mut fast = 0;
+        for handle in islands.active_bodies() {
+            let Some(rb) = bodies.get(handle) else {
+                continue;
+            };
+            if rb.linvel().length_squared() > threshold * threshold {
+                fast += usize::from(rb.is_dynamic());
+                self.prepare_rb(handle, rb, colliders, step);
+            } else {
+                self.starts.store(handle, rb.translation());
+            }
+        }
+        fast
+    }
+
+    /// [`Prepare::scan_serial`] with its reads on
+    /// rayon's pool: each body's speed judged and a slow body's start read
+    /// there, in chunks, into `scans` (in the order of the active bodies);
+    /// then, in that order, the starts stored and the fast bodies flagged
+    /// here. The same stores and flags as the serial pass, in the same
+    /// order, at any number of threads. The number of fast dynamic bodies.
+    #[cfg(feature = "parallel")]
+    fn scan_parallel(
+        &mut self,
+        islands: &IslandManager,
+        bodies: &RigidBodySet,
+        colliders: &mut ColliderSet,
+        step: &FlagStep,
+    ) -> usize {
+        use rayon::prelude::*;
+        let threshold = step.threshold;
+        let mut active = std::mem::take(&mut self.active);
+        active.clear();
+        active.extend(islands.active_bodies());
+        let mut scans = std::mem::take(&mut self.scans);
+        active
+            .par_iter()
+            .with_min_len(SCAN_RUN)
+            .map(|&handle| match bodies.get(handle) {
+                None => Scan::Gone,
+                Some(rb) if rb.linvel().length_squared() > threshold * threshold => Scan::Fast,
+                Some(rb) => Scan::Slow(rb.translation()),
+            })
+            .collect_into_vec(&mut scans);
+        let mut fast = 0;
+        for (&handle, scan) in active.iter().zip(&scans) {
+            match *scan {
+                Scan::Gone => {}
+                Scan::Slow(start) => self.starts.store(handle, start),
+                Scan::Fast => {
+                    if let Some(rb) = bodies.get(handle) {
+                        fast += usize::from(rb.is_dynamic());
+                        self.prepare_rb(handle, rb, colliders, step);
+                    }
+                }
+            }
+        }
+        self.active = active;
+        self.scans = scans;
+        fast
     }
 
     /// `prepare` for one body (fast ones, and those marked or woken since

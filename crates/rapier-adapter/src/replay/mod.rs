@@ -335,6 +335,8 @@ pub(crate) struct Replay {
     /// Runs that swept in bulk (for the unit tests).
     #[cfg(test)]
     pub(crate) bulk_sweeps: u64,
+    #[cfg(feature = "parallel")]
+    par: sweep::ParScratch,
 }
 
 /// A collider the replay sweeps along its node's path this run.

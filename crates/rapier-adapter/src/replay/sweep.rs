@@ -13,6 +13,17 @@ use super::*;
 const BULK_MIN: usize = 64;
 const BULK_SHARE: usize = 8;
 
+/// Scratch of the bulk sweep's passes on rayon's pool (`parallel`).
+#[cfg(feature = "parallel")]
+#[derive(Default)]
+pub(super) struct ParScratch {
+    /// The grid's pairs of sweepers, each with whether it may meet on the
+    /// present paths, in the serial join's order.
+    joined: Vec<(u32, u32, bool)>,
+    /// rapier's leaves that are not sweepers: (collider index, box).
+    leaves: Vec<(u32, Aabb)>,
+}
+
 impl Replay {
     /// Bodies that move more than their own half-size this step can cross a
     /// partner without a contact ever being seen (rapier's CCD does not
@@ -249,21 +260,37 @@ impl Replay {
         let mut deferred = std::mem::take(&mut self.deferred);
         deferred.clear();
         let nodes = &self.nodes;
-        grid.self_join(|s, t| {
+        // Whether sweepers `s` and `t` may meet on their present paths.
+        let may_meet = |s: u32, t: u32| {
             let (a, b) = (&sweepers[s as usize], &sweepers[t as usize]);
-            let kb = b.collider.into_raw_parts().0;
-            if let (Some((r1, o1)), Some((r2, o2))) = (a.ball, b.ball) {
+            match (a.ball, b.ball) {
                 // The first cast `Replay::predict` would make of the pair.
-                let hit = cast_balls(&nodes[a.node], (r1, o1), &nodes[b.node], (r2, o2), 0.0, dt);
-                if hit.is_some() {
-                    found.push((s, kb));
-                } else {
-                    deferred.push((s, t));
+                (Some(b1), Some(b2)) => {
+                    cast_balls(&nodes[a.node], b1, &nodes[b.node], b2, 0.0, dt).is_some()
                 }
-            } else {
-                found.push((s, kb));
+                _ => true,
             }
-        });
+        };
+        let mut take = |s: u32, t: u32, meets: bool| {
+            if meets {
+                found.push((s, sweepers[t as usize].collider.into_raw_parts().0));
+            } else {
+                deferred.push((s, t));
+            }
+        };
+        #[cfg(not(feature = "parallel"))]
+        grid.self_join(|s, t| take(s, t, may_meet(s, t)));
+        #[cfg(feature = "parallel")]
+        {
+            // The casts on rayon's pool, taken here in the serial order.
+            let mut joined = std::mem::take(&mut self.par.joined);
+            joined.clear();
+            grid.par_self_join(|s, t| Some((s, t, may_meet(s, t))), &mut joined);
+            for &(s, t, meets) in &joined {
+                take(s, t, meets);
+            }
+            self.par.joined = joined;
+        }
         if !deferred.is_empty() {
             self.group_deferred(&deferred, sweepers);
         }
@@ -275,11 +302,43 @@ impl Replay {
         // refits the ancestors of moved leaves lazily), so a query
         // descending from the root can miss a collider whose own box meets
         // the query's (it happens in a falling pile).
+        #[cfg(not(feature = "parallel"))]
         for_each_leaf(tree, |index, node| {
             if sweeping.get(index as usize) != Some(&self.stamp) {
                 grid.overlaps(&node.aabb(), |s| found.push((s, index)));
             }
         });
+        #[cfg(feature = "parallel")]
+        {
+            // The leaves listed, then looked up on rayon's pool (`found`
+            // is sorted below: the order it is filled in does not matter).
+            use rayon::prelude::*;
+            let mut leaves = std::mem::take(&mut self.par.leaves);
+            leaves.clear();
+            for_each_leaf(tree, |index, node| {
+                if sweeping.get(index as usize) != Some(&self.stamp) {
+                    leaves.push((index, node.aabb()));
+                }
+            });
+            let run = leaves
+                .len()
+                .div_ceil(8 * rayon::current_num_threads())
+                .max(1);
+            let parts: Vec<Vec<(u32, u32)>> = leaves
+                .par_chunks(run)
+                .map(|chunk| {
+                    let mut part = Vec::new();
+                    for (index, aabb) in chunk {
+                        grid.overlaps(aabb, |s| part.push((s, *index)));
+                    }
+                    part
+                })
+                .collect();
+            for part in parts {
+                found.extend(part);
+            }
+            self.par.leaves = leaves;
+        }
         self.grid = grid;
         self.sweeping = sweeping;
         // Sweeper by sweeper, each in collider order, as one query each
