@@ -48,7 +48,7 @@ fn child_args(cli: &Cli, solo: bool, (scene, balls, precision): Config, mode: Mo
     };
     // A small scene (of fixed size): a step of microseconds, timed by whole
     // blocks.
-    let small = scene.fixed_balls().is_some();
+    let small = scene.small();
     let (block, repeats) = match (small, solo) {
         (true, false) => (cli.small_block, cli.small_repeats),
         (true, true) => (cli.small_block, 1),

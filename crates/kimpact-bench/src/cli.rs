@@ -65,6 +65,14 @@ impl Scene {
             _ => None,
         }
     }
+
+    /// A small scene: a step of microseconds, timed by whole blocks.
+    pub fn small(self) -> bool {
+        matches!(
+            self,
+            Scene::Billiards | Scene::Restitution3 | Scene::Restitution2 | Scene::Pinball
+        )
+    }
 }
 
 /// A configuration of the effects table (`--effects`): its base, the gas
