@@ -159,11 +159,8 @@ pub fn markdown(h: &Header, rows: &[BenchRow]) -> String {
             peak_rss_mib,
             ..
         } = r;
-        let (time, impacts, notes) = (
-            fmt_us(r.median_us),
-            r.impacts_per_step,
-            r.error.as_deref().unwrap_or_default(),
-        );
+        let (time, impacts) = (fmt_us(r.median_us), r.impacts_per_step);
+        let notes = r.error.as_deref().unwrap_or_default();
         s += &format!(
             "| {scene} | {precision} | {balls} | {mode} | {time} | {native_us} | {ratio} | {delta} | {allocs_per_step:.1} ({own}) | {peak_rss_mib:.0} MiB | {impacts:.2} | {notes} |\n"
         );

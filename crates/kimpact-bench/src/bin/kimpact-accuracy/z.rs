@@ -155,10 +155,8 @@ pub fn z_run<const D: usize>(
             }
             let state = sim.state();
             for (i, &w) in ws(&ell, w_min).iter().enumerate() {
-                let inside = state
-                    .iter()
-                    .filter(|(p, _)| (0..D).all(|k| p[k] >= w && p[k] <= size[k] - w))
-                    .count();
+                let within = |p: &V<D>| (0..D).all(|k| p[k] >= w && p[k] <= size[k] - w);
+                let inside = state.iter().filter(|(p, _)| within(p)).count();
                 rho[i] += inside as f64 / region(w);
             }
             temp += kt(&state);
