@@ -225,10 +225,8 @@ pub fn render(dir: &Path, raw: &Raw) -> ExitCode {
         (dir.join("results.csv"), csv(&rows)),
     ];
     for key in BTreeSet::from_iter(rows.iter().map(|r| (&r.scene, r.precision))) {
-        let mine: Vec<&BenchRow> = rows
-            .iter()
-            .filter(|r| (&r.scene, r.precision) == key)
-            .collect();
+        let mine = rows.iter().filter(|r| (&r.scene, r.precision) == key);
+        let mine: Vec<&BenchRow> = mine.collect();
         match scaling_svg(&mine) {
             Some(Ok(svg)) => files.push((
                 dir.join(format!("scaling-{}-{}.svg", key.0, key.1)),

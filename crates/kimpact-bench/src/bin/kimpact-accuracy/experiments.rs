@@ -337,9 +337,8 @@ pub fn cooling_jobs<const D: usize>(b: Backend<D>, sizes: &Sizes) -> Result<Out,
     }
     let deviation = |s: &GasSeries, i: usize| (s.energy[i] / r.energy[i] - 1.0).abs();
     let worst = |s: &GasSeries| {
-        (1..s.t.len().min(r.t.len()))
-            .map(|i| deviation(s, i))
-            .fold(0.0, f64::max)
+        let checkpoints = 1..s.t.len().min(r.t.len());
+        checkpoints.map(|i| deviation(s, i)).fold(0.0, f64::max)
     };
     let row = |label: &str, s: &GasSeries, vs: bool| {
         let k = s.t.len().min(r.t.len());
@@ -429,10 +428,8 @@ pub fn z_vs_reference(x: &ZEntry, reference: &ZEntry) -> (f64, f64) {
 /// The summary rows of the Z runs: |single-wall Z vs the reference's − 1|
 /// per case and rapier run, its standard error as the noise floor.
 pub fn z_summary(z: &[ZEntry]) -> Vec<ErrorRow> {
-    let reference = |x: &ZEntry| {
-        z.iter()
-            .find(|y| y.case == x.case && y.method == Method::Reference)
-    };
+    let is_reference = |x: &ZEntry, y: &&ZEntry| y.case == x.case && y.method == Method::Reference;
+    let reference = |x: &ZEntry| z.iter().find(|y| is_reference(x, y));
     z.iter()
         .filter_map(|x| {
             let (dev, err) = z_vs_reference(x, reference(x)?);
