@@ -21,11 +21,8 @@ fn spawn<T: serde::de::DeserializeOwned>(args: &[String]) -> Result<T, String> {
         if !out.status.success() {
             let err = String::from_utf8_lossy(&out.stderr);
             let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
-            return Err(format!(
-                "child failed ({}): {}",
-                out.status,
-                lines.join(" | ")
-            ));
+            let (status, lines) = (out.status, lines.join(" | "));
+            return Err(format!("child failed ({status}): {lines}"));
         }
         let stdout = String::from_utf8_lossy(&out.stdout);
         let line = stdout.lines().rev().find(|l| l.starts_with('{'));

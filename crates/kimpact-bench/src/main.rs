@@ -82,16 +82,12 @@ fn main() -> ExitCode {
                     let e = effect.map(|e| format!(", {}", name(e))).unwrap_or_default();
                     eprintln!("[{t:>6.1}s] {precision} {s} {balls} balls{e}: {what}");
                 };
+                let config = (scene, balls, precision);
                 let cli = Cli {
                     effect,
                     ..cli.clone()
                 };
-                groups.push(child::measure_group(
-                    &cli,
-                    (scene, balls, precision),
-                    &modes,
-                    progress,
-                ));
+                groups.push(child::measure_group(&cli, config, &modes, progress));
             }
         }
     }

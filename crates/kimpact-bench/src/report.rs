@@ -159,11 +159,8 @@ pub fn markdown(h: &Header, rows: &[BenchRow]) -> String {
             peak_rss_mib,
             ..
         } = r;
-        let (time, impacts, notes) = (
-            fmt_us(r.median_us),
-            r.impacts_per_step,
-            r.error.as_deref().unwrap_or_default(),
-        );
+        let (time, impacts) = (fmt_us(r.median_us), r.impacts_per_step);
+        let notes = r.error.as_deref().unwrap_or_default();
         s += &format!(
             "| {scene} | {precision} | {balls} | {mode} | {time} | {native_us} | {ratio} | {delta} | {allocs_per_step:.1} ({own}) | {peak_rss_mib:.0} MiB | {impacts:.2} | {notes} |\n"
         );
@@ -228,10 +225,8 @@ pub fn render(dir: &Path, raw: &Raw) -> ExitCode {
         (dir.join("results.csv"), csv(&rows)),
     ];
     for key in BTreeSet::from_iter(rows.iter().map(|r| (&r.scene, r.precision))) {
-        let mine: Vec<&BenchRow> = rows
-            .iter()
-            .filter(|r| (&r.scene, r.precision) == key)
-            .collect();
+        let mine = rows.iter().filter(|r| (&r.scene, r.precision) == key);
+        let mine: Vec<&BenchRow> = mine.collect();
         match scaling_svg(&mine) {
             Some(Ok(svg)) => files.push((
                 dir.join(format!("scaling-{}-{}.svg", key.0, key.1)),

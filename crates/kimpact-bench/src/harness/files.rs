@@ -67,16 +67,8 @@ pub fn machine() -> String {
             .unwrap_or_default()
     };
     // `rustc 1.95.0` without its commit and date: the docs name no commits.
-    let rustc: Vec<String> = out("rustc", "-V")
-        .split(' ')
-        .take(2)
-        .map(str::to_owned)
-        .collect();
-    let cpu = cpu.as_deref().unwrap_or("unknown CPU");
-    let os = out("uname", "-sr");
-    format!(
-        "{cpu}, {cores} cores available to the process, {}; {}",
-        os.trim(),
-        rustc.join(" ")
-    )
+    let (rustc, os) = (out("rustc", "-V"), out("uname", "-sr"));
+    let rustc = rustc.split(' ').take(2).collect::<Vec<_>>().join(" ");
+    let (cpu, os) = (cpu.as_deref().unwrap_or("unknown CPU"), os.trim());
+    format!("{cpu}, {cores} cores available to the process, {os}; {rustc}")
 }

@@ -119,23 +119,18 @@ fn draw(area: &DrawingArea<SVGBackend<'_>, Shift>, p: &Panel) -> Result<(), Stri
         .margin(8)
         .x_label_area_size(36)
         .y_label_area_size(52);
-    let y = (y0..y1).log_scale();
+    let (y, e) = ((y0..y1).log_scale(), |e: DrawingAreaErrorKind<_>| {
+        e.to_string()
+    });
     if p.log_x {
-        draw_series(
-            &mut chart
-                .build_cartesian_2d((x0..x1).log_scale(), y)
-                .map_err(|e| e.to_string())?,
-            p,
-        )
+        let chart = chart.build_cartesian_2d((x0..x1).log_scale(), y);
+        draw_series(&mut chart.map_err(e)?, p)
     } else {
         // f32 times end a hair past the whole second (30.0000016).
         let x1 = pts().map(|q| q.0).fold(0.0, f64::max);
         let x1 = (x1 - 1e-6 * x1.abs()).ceil().max(1.0);
         let x: RangedCoordf64 = (0.0..x1).into();
-        draw_series(
-            &mut chart.build_cartesian_2d(x, y).map_err(|e| e.to_string())?,
-            p,
-        )
+        draw_series(&mut chart.build_cartesian_2d(x, y).map_err(e)?, p)
     }
 }
 

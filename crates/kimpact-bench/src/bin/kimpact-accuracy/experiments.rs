@@ -70,9 +70,7 @@ impl<'a, const D: usize> Build<'a, D> {
 
     /// A row of `table`, the build first.
     fn row(&mut self, table: &str, cells: Vec<String>) {
-        let row = std::iter::once(self.b.label.to_owned())
-            .chain(cells)
-            .collect();
+        let row = [vec![self.b.label.to_owned()], cells].concat();
         self.out.rows.push((table.to_owned(), row));
     }
 
@@ -222,16 +220,12 @@ pub fn short_jobs<const D: usize>(b: Backend<D>) -> Result<Out, HarnessError> {
                 j.error(m, "one_impact_dissipative", 1, "velocity_error", s.dv, None);
             }
             let (kept, masses) = (format!("{:.6}", s.kept), format!("1:{m2}, d̃ = {d}"));
-            j.row(
-                "impact",
-                vec![m.name().into(), masses, e(s.dv), e(s.dx), kept, e(s.dp)],
-            );
+            let (name, dv, dx, dp) = (m.name().into(), e(s.dv), e(s.dx), e(s.dp));
+            j.row("impact", vec![name, masses, dv, dx, kept, dp]);
         }
         let s = short_run(&b, &cradle_setup::<D>(DT), m, 30.0 * DT)?;
-        j.row(
-            "cradle",
-            vec![m.name().into(), e(s.dv), format!("{:.4}", s.kept), e(s.dp)],
-        );
+        let (name, kept) = (m.name().into(), format!("{:.4}", s.kept));
+        j.row("cradle", vec![name, e(s.dv), kept, e(s.dp)]);
     }
     Ok(j.out)
 }
@@ -343,9 +337,8 @@ pub fn cooling_jobs<const D: usize>(b: Backend<D>, sizes: &Sizes) -> Result<Out,
     }
     let deviation = |s: &GasSeries, i: usize| (s.energy[i] / r.energy[i] - 1.0).abs();
     let worst = |s: &GasSeries| {
-        (1..s.t.len().min(r.t.len()))
-            .map(|i| deviation(s, i))
-            .fold(0.0, f64::max)
+        let checkpoints = 1..s.t.len().min(r.t.len());
+        checkpoints.map(|i| deviation(s, i)).fold(0.0, f64::max)
     };
     let row = |label: &str, s: &GasSeries, vs: bool| {
         let k = s.t.len().min(r.t.len());
@@ -356,16 +349,9 @@ pub fn cooling_jobs<const D: usize>(b: Backend<D>, sizes: &Sizes) -> Result<Out,
             ),
             false => ("–".into(), "–".into()),
         };
+        let (label, impacts) = (label.to_owned(), s.impacts[k - 1].to_string());
         let energy = |i: usize| format!("{:.4}", s.energy[i]);
-        let impacts = s.impacts[k - 1].to_string();
-        vec![
-            label.to_owned(),
-            energy(k / 2),
-            energy(k - 1),
-            end,
-            worst,
-            impacts,
-        ]
+        vec![label, energy(k / 2), energy(k - 1), end, worst, impacts]
     };
     j.row("cooling", row("reference", &r, false));
     j.cooling_curve(Method::Reference, &r);
@@ -375,15 +361,8 @@ pub fn cooling_jobs<const D: usize>(b: Backend<D>, sizes: &Sizes) -> Result<Out,
     let floor = worst(&runs[0].2);
     for (label, m, s) in &runs {
         j.row("cooling", row(label, s, true));
-        let deviation = worst(s);
-        j.error(
-            *m,
-            "cooling",
-            1,
-            "worst_energy_deviation",
-            deviation,
-            Some(floor),
-        );
+        let (q, deviation) = ("worst_energy_deviation", worst(s));
+        j.error(*m, "cooling", 1, q, deviation, Some(floor));
         if *m != Method::Reference {
             j.cooling_curve(*m, s);
         }
@@ -449,10 +428,8 @@ pub fn z_vs_reference(x: &ZEntry, reference: &ZEntry) -> (f64, f64) {
 /// The summary rows of the Z runs: |single-wall Z vs the reference's − 1|
 /// per case and rapier run, its standard error as the noise floor.
 pub fn z_summary(z: &[ZEntry]) -> Vec<ErrorRow> {
-    let reference = |x: &ZEntry| {
-        z.iter()
-            .find(|y| y.case == x.case && y.method == Method::Reference)
-    };
+    let is_reference = |x: &ZEntry, y: &&ZEntry| y.case == x.case && y.method == Method::Reference;
+    let reference = |x: &ZEntry| z.iter().find(|y| is_reference(x, y));
     z.iter()
         .filter_map(|x| {
             let (dev, err) = z_vs_reference(x, reference(x)?);
@@ -478,13 +455,8 @@ pub fn cost_jobs<const D: usize>(b: Backend<D>, sizes: &Sizes) -> Result<Out, Ha
     for m in Method::RAPIER {
         for div in [1usize, 2, 4, 8] {
             let dt = DT / div as f64;
-            let g = gas_series(
-                &b,
-                &gas_setup::<D>(sizes.gas_n, 0.0, dt, 1)?,
-                m,
-                sizes.cost_t,
-                2,
-            )?;
+            let gas = gas_setup::<D>(sizes.gas_n, 0.0, dt, 1)?;
+            let g = gas_series(&b, &gas, m, sizes.cost_t, 2)?;
             let cost = g.ms_per_step * div as f64 / DT / 1e3; // s per simulated s
             let energy = (g.energy.last().unwrap() - 1.0).abs().max(1e-16);
             let one = short_run(&b, &two_ball_setup::<D>(10.0, 0.0, 0.6, dt), m, 10.0 * DT)?;

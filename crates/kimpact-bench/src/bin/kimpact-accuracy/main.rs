@@ -103,11 +103,8 @@ fn jobs(sizes: &Sizes) -> Result<Vec<Job<'_>>, HarnessError> {
     let n3_large = z::calibrate(&B3_F64, 0.3, ell3_large, t3_large, sizes.w_min)?;
     let mut cases2 = Vec::new();
     for eta in [0.3, 0.5] {
-        cases2.push((
-            eta,
-            z::calibrate(&B2_F64, eta, ell2, t2, sizes.w_min)?,
-            ell2,
-        ));
+        let n = z::calibrate(&B2_F64, eta, ell2, t2, sizes.w_min)?;
+        cases2.push((eta, n, ell2));
     }
     let (case3, r) = ((0.3, n3, ell3), Method::Reference);
     jobs.push(Box::new(move || {
@@ -213,9 +210,7 @@ fn run(args: &Args) -> Result<(), RunError> {
         (dir.join("accuracy-summary.json"), summary.into_bytes()),
         (md_path, doc.into_bytes()),
     ])?;
-    eprintln!(
-        "wrote {} (accuracy.md, .svg, .csv, accuracy-summary.json) in {elapsed:.0} s",
-        dir.display()
-    );
+    let dir = dir.display();
+    eprintln!("wrote {dir} (accuracy.md, .svg, .csv, accuracy-summary.json) in {elapsed:.0} s");
     Ok(())
 }

@@ -18,12 +18,8 @@ type Points = Vec<(f64, f64)>;
 pub fn panels(points: &[(String, Method, f64, f64)], gas_balls: usize) -> Vec<Panel> {
     let mut by_title: BTreeMap<&str, BTreeMap<Method, Points>> = BTreeMap::new();
     for (title, method, x, y) in points {
-        let series = by_title
-            .entry(title)
-            .or_default()
-            .entry(*method)
-            .or_default();
-        series.push((*x, *y));
+        let panel = by_title.entry(title).or_default();
+        panel.entry(*method).or_default().push((*x, *y));
     }
     let panel = |(title, series): (&str, BTreeMap<_, _>)| {
         let cooling = title.starts_with("cooling");
@@ -38,19 +34,14 @@ pub fn panels(points: &[(String, Method, f64, f64)], gas_balls: usize) -> Vec<Pa
                 (x, "error", SeriesLabelPosition::UpperRight)
             }
         };
-        let (title, y_label, series) = (
-            title.to_owned(),
-            y_label.to_owned(),
-            series.into_iter().collect(),
-        );
         Panel {
-            title,
+            title: title.to_owned(),
             x_label,
-            y_label,
+            y_label: y_label.to_owned(),
+            series: series.into_iter().collect(),
             log_x: !cooling,
             dots: !cooling,
             legend,
-            series,
         }
     };
     let mut list: Vec<Panel> = by_title.into_iter().map(panel).collect();

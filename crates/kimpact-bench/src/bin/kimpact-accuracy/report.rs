@@ -44,9 +44,8 @@ pub fn z_tables(z: &[ZEntry]) -> (Vec<Vec<String>>, Vec<Vec<String>>) {
     let mut checks = Vec::new();
     for x in sorted {
         let (case, eta, d, method, t_run, r) = (&x.case, x.eta, x.d, x.method, x.t_run, &x.r);
-        let reference = z
-            .iter()
-            .find(|y| &y.case == case && y.method == Method::Reference);
+        let is_reference = |y: &&ZEntry| &y.case == case && y.method == Method::Reference;
+        let reference = z.iter().find(is_reference);
         let fit = eos(d, r.eta_bulk);
         let name = if d == 2 {
             "Henderson"
@@ -77,22 +76,14 @@ pub fn z_tables(z: &[ZEntry]) -> (Vec<Vec<String>>, Vec<Vec<String>>) {
             e(r.residual),
         ]);
         if method == Method::Reference {
-            let (naive, single) = (
-                pct(r.z_naive / eos(d, eta) - 1.0),
-                pct(r.z_single / fit - 1.0),
-            );
+            let naive = pct(r.z_naive / eos(d, eta) - 1.0);
+            let single = pct(r.z_single / fit - 1.0);
             let by_w = r.by_w.iter().map(|&(w, eta_w, z_w)| {
-                format!(
-                    "{w}: η {eta_w:.4}, Z/EOS {}",
-                    pct(z_w / eos(d, eta_w) - 1.0)
-                )
+                let vs_eos = pct(z_w / eos(d, eta_w) - 1.0);
+                format!("{w}: η {eta_w:.4}, Z/EOS {vs_eos}")
             });
-            checks.push(
-                [case.clone(), naive, single]
-                    .into_iter()
-                    .chain(by_w)
-                    .collect(),
-            );
+            let row = [case.clone(), naive, single].into_iter().chain(by_w);
+            checks.push(row.collect());
         }
     }
     (main, checks)

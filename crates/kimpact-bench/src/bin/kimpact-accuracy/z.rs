@@ -155,10 +155,8 @@ pub fn z_run<const D: usize>(
             }
             let state = sim.state();
             for (i, &w) in ws(&ell, w_min).iter().enumerate() {
-                let inside = state
-                    .iter()
-                    .filter(|(p, _)| (0..D).all(|k| p[k] >= w && p[k] <= size[k] - w))
-                    .count();
+                let within = |p: &V<D>| (0..D).all(|k| p[k] >= w && p[k] <= size[k] - w);
+                let inside = state.iter().filter(|(p, _)| within(p)).count();
                 rho[i] += inside as f64 / region(w);
             }
             temp += kt(&state);
@@ -195,10 +193,9 @@ pub fn z_run<const D: usize>(
     out.z = p / (rho[0] * temp);
     out.z_err = mean_and_error(&z_blocks).1;
     out.eta_bulk = rho[0] * ball_volume(D, R);
-    out.by_w = ws(&ell, w_min)
-        .iter()
-        .zip(&rho)
-        .map(|(&w, &r)| (w, r * ball_volume(D, R), p / (r * temp)))
+    let by_w = ws(&ell, w_min).into_iter().zip(&rho);
+    out.by_w = by_w
+        .map(|(w, &r)| (w, r * ball_volume(D, R), p / (r * temp)))
         .collect();
     let area: f64 = (0..D).map(|k| 2.0 * size.product() / size[k]).sum();
     let p_naive = impulse_total / sum_t / area;

@@ -188,10 +188,8 @@ pub fn join(
                 let what = format!("{scene_label}, {label}, {mode}");
                 let at = |field: &str| format!("{}, {index}.{field}", files.accuracy.display());
                 let nan = if !cost.ratio.is_finite() {
-                    let said = cost
-                        .error
-                        .as_ref()
-                        .map(|e| format!("; the bench's error: {e}"));
+                    let said = cost.error.as_ref();
+                    let said = said.map(|e| format!("; the bench's error: {e}"));
                     let (bench, said) = (files.bench.display(), said.unwrap_or_default());
                     Some(format!(
                         "×native is {} in {bench}, {line}{said}",

@@ -49,10 +49,8 @@ fn read_bench(path: &Path) -> Result<Vec<(u64, BenchRow)>, LadderError> {
     let error = |e| LadderError::new(path, format!("cannot read: {e}"));
     let bytes = std::fs::read(path).map_err(error)?;
     let mut reader = csv::Reader::from_reader(bytes.as_slice());
-    let headers = reader
-        .headers()
-        .map_err(|e| LadderError::new(path, e))?
-        .clone();
+    let headers = reader.headers().map_err(|e| LadderError::new(path, e))?;
+    let headers = headers.clone();
     let column = |e: &csv::Error| match e.kind() {
         csv::ErrorKind::Deserialize { err, .. } => {
             err.field().and_then(|i| headers.get(i as usize))
@@ -99,10 +97,10 @@ fn run(args: &Args) -> Result<String, LadderError> {
     for s in &joined.skipped {
         eprintln!("kimpact-ladder: left out {s}");
     }
-    let (n, skipped) = (joined.points.len(), joined.skipped.len());
+    let (n, left_out) = (joined.points.len(), joined.skipped.len());
     let (svg, md) = (args.svg.display(), args.md.display());
     Ok(format!(
-        "wrote {svg} and {md}: {n} points, {skipped} left out"
+        "wrote {svg} and {md}: {n} points, {left_out} left out"
     ))
 }
 

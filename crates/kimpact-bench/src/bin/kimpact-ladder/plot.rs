@@ -34,18 +34,14 @@ fn ticks(lo: f64, hi: f64) -> (Vec<f64>, usize) {
     if hi / lo >= 10.0 {
         let decades = (lo.log10().floor() as i32)..=(hi.log10().ceil() as i32);
         let all = decades.flat_map(|k| [1.0, 2.0, 5.0].map(|m| m * 10f64.powi(k)));
-        return (
-            all.filter(|v| (lo..=hi).contains(v)).collect(),
-            decimals(lo),
-        );
+        let ticks = all.filter(|v| (lo..=hi).contains(v)).collect();
+        return (ticks, decimals(lo));
     }
     let raw = (hi - lo) / 8.0;
     let magnitude = 10f64.powf(raw.log10().floor());
     let steps = [1.0, 2.0, 5.0, 10.0].map(|m| m * magnitude);
-    let step = steps
-        .into_iter()
-        .find(|s| *s >= raw)
-        .unwrap_or(10.0 * magnitude);
+    let step = steps.into_iter().find(|s| *s >= raw);
+    let step = step.unwrap_or(10.0 * magnitude);
     let range = (lo / step).ceil() as i64..=(hi / step).floor() as i64;
     (range.map(|i| i as f64 * step).collect(), decimals(step))
 }
@@ -61,22 +57,14 @@ fn panel(
     let e = |e: DrawingAreaErrorKind<_>| e.to_string();
     // The whole decades of the errors and floors (one more below for the
     // zeros), 4% wider at each end.
-    let values = points
-        .iter()
-        .map(|p| drawn(p, f64::NAN))
-        .chain(points.iter().filter_map(|p| p.noise_floor));
-    let (lo, hi) = values
-        .filter(|v| *v > 0.0)
-        .map(f64::log10)
-        .fold((0.0f64, -3.0f64), |(a, b), v| (a.min(v), b.max(v)));
-    let (lo, hi) = (
-        lo.floor() - f64::from(points.iter().any(|p| p.level() == Level::Zero)),
-        hi.ceil(),
-    );
-    let (y0, y1) = (
-        10f64.powf(lo - 0.04 * (hi - lo)),
-        10f64.powf(hi + 0.04 * (hi - lo)),
-    );
+    let floors = points.iter().filter_map(|p| p.noise_floor);
+    let values = points.iter().map(|p| drawn(p, f64::NAN)).chain(floors);
+    let logs = values.filter(|v| *v > 0.0).map(f64::log10);
+    let (lo, hi) = logs.fold((0.0f64, -3.0f64), |(a, b), v| (a.min(v), b.max(v)));
+    let zeros = points.iter().any(|p| p.level() == Level::Zero);
+    let (lo, hi) = (lo.floor() - f64::from(zeros), hi.ceil());
+    let margin = 0.04 * (hi - lo);
+    let (y0, y1) = (10f64.powf(lo - margin), 10f64.powf(hi + margin));
     let (xticks, decimals) = ticks(x0, x1);
     let x = (x0..x1).log_scale().with_key_points(xticks);
     let mut chart = ChartBuilder::on(area)
@@ -184,16 +172,14 @@ pub fn svg(join: &Join) -> Result<String, String> {
         let root = SVGBackend::with_string(&mut out, (560 * n as u32, 520)).into_drawing_area();
         root.fill(&WHITE).map_err(|e| e.to_string())?;
         let title = "What accuracy costs: error against × native rapier";
-        let root = root
-            .titled(title, ("sans-serif", 20))
-            .map_err(|e| e.to_string())?;
+        let root = root.titled(title, ("sans-serif", 20));
+        let root = root.map_err(|e| e.to_string())?;
         let (head, body) = root.split_vertically(40);
         let subtitle = format!(
             "{PRECISION}. × native: kimpact-bench, {BALLS} balls, CPU time per step. Error: kimpact-accuracy, against the exact reference at rapier's time step. Hollow: at or below the noise floor (drawn at it), or 0 (at the bottom)."
         );
-        let style = ("sans-serif", 13)
-            .into_text_style(&head)
-            .pos(Pos::new(HPos::Center, VPos::Top));
+        let style = ("sans-serif", 13).into_text_style(&head);
+        let style = style.pos(Pos::new(HPos::Center, VPos::Top));
         let at = ((head.dim_in_pixel().0 / 2) as i32, 4);
         head.draw(&Text::new(subtitle, at, style))
             .map_err(|e| e.to_string())?;
