@@ -130,27 +130,12 @@ impl StepHooks<'_> {
         let (dt, rest_speed, margin) = (frame.dt, frame.rest_speed, frame.gravity_speed);
         let (bodies, colliders) = (context.bodies, context.colliders);
         let (rb1, rb2) = (context.rigid_body1, context.rigid_body2);
-        // A body with some translations locked: the pair is rapier's.
-        let (Some(b1), Some(b2)) = (
-            law_body(bodies, context.rigid_body1),
-            law_body(bodies, context.rigid_body2),
-        ) else {
+        let Some((b1, b2)) = self.law_bodies(context) else {
             return;
         };
-        let (b1, b2) = dominated(bodies, (rb1, b1), (rb2, b2));
         let Some(rigid) = context.rigid_mut() else {
             return;
         };
-        if rigid.solver_contacts.is_empty() {
-            return;
-        }
-        // Runtime guard: a body with a non-finite velocity or mass is cut
-        // off from its law partners (rapier's solver would spread the NaN).
-        if !(b1.is_finite() && b2.is_finite()) {
-            rigid.solver_contacts.clear();
-            self.guarded.fetch_add(1, Ordering::Relaxed);
-            return;
-        }
         let n = *rigid.normal;
         let w = b2.velocity - b1.velocity;
         let approach = -w.dot(n);
@@ -251,6 +236,27 @@ impl StepHooks<'_> {
         }
     }
 
+    /// The pair's two bodies as the law sees them (dominance applied), if
+    /// the pair has solver contacts for the law to act on: `None` for a
+    /// body with some translations locked (the pair is rapier's), and for
+    /// a body with a non-finite velocity or mass, whose pair's contacts are
+    /// cleared (runtime guard: rapier's solver would spread the NaN).
+    fn law_bodies(&self, context: &mut ContactModificationContext) -> Option<(LawBody, LawBody)> {
+        let (bodies, rb1, rb2) = (context.bodies, context.rigid_body1, context.rigid_body2);
+        let (b1, b2) = (law_body(bodies, rb1)?, law_body(bodies, rb2)?);
+        let (b1, b2) = dominated(bodies, (rb1, b1), (rb2, b2));
+        let rigid = context.rigid_mut()?;
+        if rigid.solver_contacts.is_empty() {
+            return None;
+        }
+        if !(b1.is_finite() && b2.is_finite()) {
+            rigid.solver_contacts.clear();
+            self.guarded.fetch_add(1, Ordering::Relaxed);
+            return None;
+        }
+        Some((b1, b2))
+    }
+
     /// Every law mode, a pair with a marked collider of another shape than
     /// a centred ball on a dynamic body: the law's restitution for the two
     /// as rigid bodies at the manifold's contact, written into the manifold
@@ -268,22 +274,12 @@ impl StepHooks<'_> {
     fn respond_rigid(&self, context: &mut ContactModificationContext, frame: &StepFrame) {
         let (bodies, rb1, rb2) = (context.bodies, context.rigid_body1, context.rigid_body2);
         let (c1, c2) = (context.collider1, context.collider2);
-        // A body with some translations locked: the pair is rapier's.
-        let (Some(b1), Some(b2)) = (law_body(bodies, rb1), law_body(bodies, rb2)) else {
+        let Some((b1, b2)) = self.law_bodies(context) else {
             return;
         };
-        let (b1, b2) = dominated(bodies, (rb1, b1), (rb2, b2));
         let Some(rigid) = context.rigid_mut() else {
             return;
         };
-        if rigid.solver_contacts.is_empty() {
-            return;
-        }
-        if !(b1.is_finite() && b2.is_finite()) {
-            rigid.solver_contacts.clear();
-            self.guarded.fetch_add(1, Ordering::Relaxed);
-            return;
-        }
         let n = *rigid.normal;
         // Whether a solver contact's material points close along the
         // normal (a NaN fails: not closing).
