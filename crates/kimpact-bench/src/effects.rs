@@ -79,7 +79,7 @@ fn markdown(raw: &Raw, rows: &[&EffectRow]) -> String {
     for r in rows {
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {} | {} | {:.3} | {:+.2} µs | {:+.2} µs | {:.2} | {:.2} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {:.3} | {:+.2} µs | {:+.2} µs | {} | {:.2} | {} |",
             r.precision,
             r.balls,
             r.effect,
@@ -89,12 +89,22 @@ fn markdown(raw: &Raw, rows: &[&EffectRow]) -> String {
             r.ratio,
             r.delta_us,
             r.effect_us,
-            r.kimpact_allocs_per_step,
+            allocs_cell(r.kimpact_allocs_per_step),
             r.impacts_per_step,
             r.error.as_deref().unwrap_or_default()
         );
     }
     s
+}
+
+/// kimpact's allocations per step, or `?` when they were not attributed
+/// (`--no-attribute`: the row holds NaN).
+fn allocs_cell(allocs: f64) -> String {
+    if allocs.is_finite() {
+        format!("{allocs:.2}")
+    } else {
+        "?".to_owned()
+    }
 }
 
 /// Print each scene's effects table and write it into
