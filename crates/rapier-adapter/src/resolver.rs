@@ -7,17 +7,17 @@ use kimpact::{Law, LawError, LawParams};
 
 use crate::candidates::Candidates;
 use crate::config::{ResolverConfig, ResolverConfigError};
-use crate::events::{EventLog, ImpactEvent, Stats};
+use crate::events::{AppliedBy, EventLog, ImpactEvent, Outcome, Stats};
 use crate::frame::StepFrame;
 use crate::hook::StepHooks;
-use crate::marks::Marks;
+use crate::marks::{Marks, Partners};
 use crate::material::Material;
 use crate::math::{Real, Vector, to_law};
 use crate::mode::Mode;
 use crate::pair_filter::PairFilter;
 use crate::prepare::{Prepare, PrepareInput};
 use crate::rapier::prelude::*;
-use crate::replay::{Replay, ReplayInput, ReplayOutput};
+use crate::replay::{Replay, ReplayInput, ReplayOutput, ReplaySets};
 
 /// A collider handle that is not in the collider set it was checked
 /// against.
@@ -429,7 +429,7 @@ impl Kimpact {
             mode: prepared.mode,
             marks: &self.marks,
             prepare: &self.prepare,
-            fixed_partners: self.config.fixed_partners,
+            partners: Partners::of(self.config.fixed_partners),
             candidates: &self.candidates,
             guarded: &self.guarded,
             user,
@@ -489,6 +489,7 @@ impl Kimpact {
                 };
                 let input = ReplayInput {
                     law: &self.law,
+                    mode,
                     config: &self.config,
                     marks: &self.marks,
                     flagged: swept,
@@ -501,15 +502,13 @@ impl Kimpact {
                     log: &mut self.log,
                     woken: &mut self.prepare.woken,
                 };
-                self.replay.run(
-                    &input,
-                    &mut out,
+                let sets = ReplaySets {
                     bodies,
                     colliders,
                     narrow_phase,
                     broad_phase,
-                    mode,
-                );
+                };
+                self.replay.run(&input, sets, &mut out);
             }
         }
     }
@@ -527,7 +526,7 @@ impl Kimpact {
     /// per-triangle manifolds keep none.
     fn report_by_solver(&mut self, narrow_phase: &NarrowPhase) {
         for c in self.candidates.sorted() {
-            if c.by_replay {
+            if c.applied_by == AppliedBy::Replay {
                 continue;
             }
             let bounced = narrow_phase
@@ -541,16 +540,20 @@ impl Kimpact {
                 continue;
             }
             if let Some(impact) = &c.rigid {
-                self.log.push(c, 0.0, c.point, impact, true);
+                let outcome = Outcome::from(impact);
+                self.log
+                    .push(c.colliders(), 0.0, c.point, outcome, AppliedBy::Solver);
                 continue;
             }
             let (Ok(b1), Ok(b2)) = (c.start1.checked(), c.start2.checked()) else {
-                self.log.skip(c);
+                self.log.skip(c.colliders());
                 continue;
             };
             let law = self.marks.law(&self.law, c.collider1, c.collider2);
             if let Some(impact) = law.resolve_unit(&b1, &b2, &to_law(c.normal)) {
-                self.log.push(c, 0.0, c.point, &impact, true);
+                let outcome = Outcome::from(&impact);
+                self.log
+                    .push(c.colliders(), 0.0, c.point, outcome, AppliedBy::Solver);
             }
         }
     }
