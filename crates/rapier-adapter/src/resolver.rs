@@ -18,6 +18,7 @@ use crate::pair_filter::PairFilter;
 use crate::prepare::{Prepare, PrepareInput};
 use crate::rapier::prelude::*;
 use crate::replay::{Replay, ReplayInput, ReplayOutput, ReplaySets};
+use crate::snapshot::{Saving, Snapshot, SnapshotError};
 
 /// A collider handle that is not in the collider set it was checked
 /// against.
@@ -275,6 +276,41 @@ impl Kimpact {
     /// Totals since the resolver was built.
     pub fn stats(&self) -> Stats {
         self.log.stats
+    }
+
+    /// This resolver's [`Snapshot`]; take it between steps (after
+    /// [`Kimpact::after_step`], or [`Kimpact::step`]).
+    pub fn snapshot(&self) -> Snapshot {
+        Snapshot::save(Saving {
+            law: &self.law,
+            mode: self.mode,
+            config: &self.config,
+            marks: &self.marks,
+            stats: self.log.stats,
+            carried: self.prepare.carried(),
+        })
+    }
+
+    /// The resolver `snapshot` saved, to step on with rapier's world of the
+    /// same moment, whose collider set is `colliders`. A marked collider
+    /// that is no longer in `colliders` (removed before the snapshot was
+    /// taken) is not marked again: its handle can never be valid again.
+    ///
+    /// # Errors
+    /// [`SnapshotError::Format`] for a snapshot of another format than
+    /// [`Snapshot::FORMAT`]; [`SnapshotError::Config`] or
+    /// [`SnapshotError::Material`] naming an invalid field of one read from
+    /// serde data.
+    pub fn from_snapshot(
+        snapshot: Snapshot,
+        colliders: &ColliderSet,
+    ) -> Result<Self, SnapshotError> {
+        let saved = snapshot.restore(colliders)?;
+        let mut kimpact = Self::with_config(saved.law, saved.mode, saved.config)?;
+        kimpact.marks = saved.marks;
+        kimpact.prepare = Prepare::from_carried(saved.carried);
+        kimpact.log.stats = saved.stats;
+        Ok(kimpact)
     }
 
     /// Step a [`PhysicsWorld`] through kimpact (see [`Kimpact::step`]).
@@ -558,10 +594,6 @@ impl Kimpact {
         }
     }
 }
-
-mod snapshot;
-
-pub use snapshot::{Snapshot, SnapshotError};
 
 #[cfg(test)]
 mod sweep_tests;
