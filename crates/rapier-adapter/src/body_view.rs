@@ -119,6 +119,12 @@ pub(crate) fn translations_locked(rb: &RigidBody) -> bool {
     rb.locked_axes().contains(TRANSLATIONS)
 }
 
+/// Whether any translation of `rb` is locked.
+#[inline]
+pub(crate) fn translations_partly_locked(rb: &RigidBody) -> bool {
+    rb.locked_axes().intersects(TRANSLATIONS)
+}
+
 /// Restitution mode hands a body to the replay, and the replay chains on
 /// from a struck body, while it moves more than this share of its
 /// [`half_size`] over the step (a quarter of its size).

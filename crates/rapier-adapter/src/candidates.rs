@@ -3,6 +3,7 @@
 use std::sync::Mutex;
 
 use crate::body_view::LawBody;
+use crate::events::AppliedBy;
 use crate::math::{DIM, Real, Vector};
 use crate::rapier::prelude::ColliderHandle;
 
@@ -19,11 +20,11 @@ pub(crate) struct Candidate {
     pub start1: LawBody,
     /// See `start1`.
     pub start2: LawBody,
-    /// Whether the replay resolves the pair after the step (its solver
-    /// contacts were cleared); otherwise rapier's solver bounced it with
-    /// the law's restitution (a rigid pair, or restitution mode's slow
-    /// balls), to be reported.
-    pub by_replay: bool,
+    /// The replay when it resolves the pair after the step (its solver
+    /// contacts were cleared); the solver when rapier's solver bounced it
+    /// with the law's restitution (a rigid pair, or restitution mode's
+    /// slow balls), to be reported.
+    pub applied_by: AppliedBy,
     /// A pair with a collider of another shape than a centred ball on a
     /// dynamic body (every law mode): the law's impact as rigid bodies at
     /// the manifold's contact, at detection (the report's outcome).
@@ -31,6 +32,11 @@ pub(crate) struct Candidate {
 }
 
 impl Candidate {
+    /// Its colliders, in order.
+    pub(crate) fn colliders(&self) -> [ColliderHandle; 2] {
+        [self.collider1, self.collider2]
+    }
+
     fn key(&self) -> (u32, u32, u32, u32) {
         let (a, b) = self.collider1.into_raw_parts();
         let (c, d) = self.collider2.into_raw_parts();

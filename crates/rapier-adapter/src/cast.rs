@@ -22,99 +22,80 @@ use crate::rapier::parry::bounding_volume::Aabb;
 use crate::rapier::parry::query::{PointQuery, ShapeCastOptions, cast_shapes};
 use crate::rapier::parry::shape::{CompositeShape, Shape};
 
-/// The first contact of a cast: time after the start, the world normal
-/// pointing from shape 1 towards shape 2, and the world contact point on
-/// shape 1 in its starting pose.
-pub(crate) type Hit = (Real, Vector, Vector);
-
 /// Newton iterations before the ball–cuboid cast settles for its current
 /// (never late) estimate.
 const MAX_ITERATIONS: usize = 24;
 
-/// When the colliders at `pos1` and `pos2`, moving at `v1` and `v2`, first
-/// touch within `window` seconds. `Ok(None)`: they do not. `Err(())`: parry
-/// does not support the pair.
-///
-/// Pairs that start in contact: with `stop_at_penetration`, a hit at time
-/// zero (whose normal may be zero: the question is only whether they
-/// meet); without, a hit at time zero only if they are approaching (as
-/// parry's `stop_at_penetration = false`: a pair on its way out of an
-/// overlap does not meet).
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn cast(
-    pos1: &Pose,
-    v1: Vector,
-    s1: &dyn Shape,
-    pos2: &Pose,
-    v2: Vector,
-    s2: &dyn Shape,
-    window: Real,
-    stop_at_penetration: bool,
-) -> Result<Option<Hit>, ()> {
-    if let (Some(b1), Some(b2)) = (s1.as_ball(), s2.as_ball()) {
-        return Ok(ball_ball(
-            pos1.translation,
-            v1,
-            b1.radius,
-            pos2.translation,
-            v2,
-            b2.radius,
-            window,
-            stop_at_penetration,
-        ));
+/// A shape moving at a constant velocity: its pose at the start of the
+/// cast, its velocity, the shape.
+#[derive(Copy, Clone)]
+pub(crate) struct Moving<'a> {
+    pub pose: &'a Pose,
+    pub velocity: Vector,
+    pub shape: &'a dyn Shape,
+}
+
+/// What a pair that starts in contact (touching or overlapping) is to a
+/// cast.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub(crate) enum InContact {
+    /// A meeting at time zero, whose normal may be zero: the question is
+    /// only whether they meet (parry's `stop_at_penetration`).
+    Meets,
+    /// A meeting at time zero only if they approach: a pair on its way out
+    /// of an overlap does not meet.
+    MeetsIfClosing,
+}
+
+impl InContact {
+    fn meets(self) -> bool {
+        self == InContact::Meets
     }
-    if let (Some(ball), Some(cuboid)) = (s1.as_ball(), s2.as_cuboid())
-        && let Ok(hit) = ball_convex(
-            pos1,
-            v1 - v2,
-            ball.radius,
-            pos2,
-            cuboid,
-            window,
-            stop_at_penetration,
-        )
-    {
-        return Ok(hit.map(|(t, n, _, on_ball)| (t, -n, on_ball)));
+}
+
+/// The first contact of a cast: its time after the start, the world
+/// normal from shape 1 towards shape 2, and the world contact point on
+/// shape 1 in its starting pose.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub(crate) struct Touch {
+    pub time: Real,
+    pub normal: Vector,
+    pub point: Vector,
+}
+
+/// What a cast finds.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub(crate) enum CastOutcome {
+    /// The shapes touch within the window, first there.
+    Touch(Touch),
+    /// They do not touch within the window.
+    Miss,
+    /// parry does not support the pair of shapes.
+    Unsupported,
+}
+
+/// When shapes `a` and `b` first touch within `window` seconds. Pairs that
+/// start in contact: as `in_contact` says.
+pub(crate) fn cast(a: Moving, b: Moving, window: Real, in_contact: InContact) -> CastOutcome {
+    if let (Some(b1), Some(b2)) = (a.shape.as_ball(), b.shape.as_ball()) {
+        let ball = |m: &Moving, radius: Real| MovingBall {
+            centre: m.pose.translation,
+            velocity: m.velocity,
+            radius,
+        };
+        let touch = ball_ball(ball(&a, b1.radius), ball(&b, b2.radius), window, in_contact);
+        return touch.map_or(CastOutcome::Miss, CastOutcome::Touch);
     }
-    if let (Some(cuboid), Some(ball)) = (s1.as_cuboid(), s2.as_ball())
-        && let Ok(hit) = ball_convex(
-            pos2,
-            v2 - v1,
-            ball.radius,
-            pos1,
-            cuboid,
-            window,
-            stop_at_penetration,
-        )
-    {
-        return Ok(hit.map(|(t, n, on_cuboid, _)| (t, n, on_cuboid)));
+    match ball_against_shape(&a, &b, window, in_contact) {
+        BallCast::Touch(touch) => CastOutcome::Touch(touch),
+        BallCast::Miss => CastOutcome::Miss,
+        BallCast::ToParry => parry_cast(a, b, window, in_contact),
     }
-    if let (Some(ball), Some(parts)) = (s1.as_ball(), s2.as_composite_shape())
-        && let Ok(hit) = ball_parts(
-            pos1,
-            v1 - v2,
-            ball.radius,
-            pos2,
-            parts,
-            window,
-            stop_at_penetration,
-        )
-    {
-        return Ok(hit.map(|(t, n, _, on_ball)| (t, -n, on_ball)));
-    }
-    if let (Some(parts), Some(ball)) = (s1.as_composite_shape(), s2.as_ball())
-        && let Ok(hit) = ball_parts(
-            pos2,
-            v2 - v1,
-            ball.radius,
-            pos1,
-            parts,
-            window,
-            stop_at_penetration,
-        )
-    {
-        return Ok(hit.map(|(t, n, on_parts, _)| (t, n, on_parts)));
-    }
+}
+
+/// parry's shape cast of `a` and `b`.
+fn parry_cast(a: Moving, b: Moving, window: Real, in_contact: InContact) -> CastOutcome {
+    let stop_at_penetration = in_contact.meets();
     let options = ShapeCastOptions {
         max_time_of_impact: window,
         target_distance: 0.0,
@@ -122,56 +103,86 @@ pub(crate) fn cast(
         // `stop_at_penetration` is a yes/no question: no EPA for it.
         compute_impact_geometry_on_penetration: !stop_at_penetration,
     };
-    let hit = cast_shapes(pos1, v1, s1, pos2, v2, s2, options).map_err(|_| ())?;
-    Ok(hit.and_then(|hit| {
-        let normal = pos1.transform_vector(hit.normal1);
-        let len = normal.length();
-        let witness = pos1.transform_point(hit.witness1);
-        if len.is_finite() && len > 0.0 {
-            Some((hit.time_of_impact, normal / len, witness))
-        } else {
-            // A meeting without geometry (only asked with stop_at_penetration).
-            stop_at_penetration.then_some((hit.time_of_impact, Vector::ZERO, witness))
-        }
-    }))
+    let (pos1, pos2) = (a.pose, b.pose);
+    let Ok(hit) = cast_shapes(
+        pos1, a.velocity, a.shape, pos2, b.velocity, b.shape, options,
+    ) else {
+        return CastOutcome::Unsupported;
+    };
+    let Some(hit) = hit else {
+        return CastOutcome::Miss;
+    };
+    let normal = pos1.transform_vector(hit.normal1);
+    let len = normal.length();
+    let point = pos1.transform_point(hit.witness1);
+    let time = hit.time_of_impact;
+    if len.is_finite() && len > 0.0 {
+        CastOutcome::Touch(Touch {
+            time,
+            normal: normal / len,
+            point,
+        })
+    } else if stop_at_penetration {
+        // A meeting without geometry (only asked with stop_at_penetration).
+        CastOutcome::Touch(Touch {
+            time,
+            normal: Vector::ZERO,
+            point,
+        })
+    } else {
+        CastOutcome::Miss
+    }
 }
 
-/// Two balls (centres `c1`, `c2`, radii `r1`, `r2`) moving at `v1`, `v2`:
-/// the first time within `window` when they touch, in closed form. With
-/// `p = c₂ − c₁`, `w = v₂ − v₁` and `R = r₁ + r₂`, the touch is the smaller
-/// root of `|w|² t² + 2 (p·w) t + |p|² − R² = 0`, taken as
-/// `t = (|p|² − R²) / (−p·w + √((p·w)² − |w|² (|p|² − R²)))`: no
+/// A ball moving at a constant velocity.
+#[derive(Copy, Clone, Debug)]
+pub(crate) struct MovingBall {
+    /// Its centre at the start of the cast.
+    pub centre: Vector,
+    pub velocity: Vector,
+    pub radius: Real,
+}
+
+/// Two balls `a` and `b`: the first time within `window` when they touch,
+/// in closed form. With `p = c₂ − c₁`, `w = v₂ − v₁` and `R = r₁ + r₂`, the
+/// touch is the smaller root of `|w|² t² + 2 (p·w) t + |p|² − R² = 0`, taken
+/// as `t = (|p|² − R²) / (−p·w + √((p·w)² − |w|² (|p|² − R²)))`: no
 /// cancellation (`−p·w > 0` for a pair that closes), where the textbook
 /// `(−p·w − √…) / |w|²` loses the digits of a pair that is nearly touching.
 /// The normal points from ball 1 to ball 2 at the touch; the point is on
 /// ball 1 in its starting pose. Touching or overlapping at the start: a hit
-/// at time zero if they approach (or with `stop_at_penetration`), none
+/// at time zero if they approach (or when `in_contact` meets), none
 /// otherwise, as parry's cast (which this replaces, for speed: no shape
 /// dispatch).
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn ball_ball(
-    c1: Vector,
-    v1: Vector,
-    r1: Real,
-    c2: Vector,
-    v2: Vector,
-    r2: Real,
+    ball1: MovingBall,
+    ball2: MovingBall,
     window: Real,
-    stop_at_penetration: bool,
-) -> Option<Hit> {
-    let p = c2 - c1;
-    let w = v2 - v1;
-    let reach = r1 + r2;
+    in_contact: InContact,
+) -> Option<Touch> {
+    let (c1, r1) = (ball1.centre, ball1.radius);
+    let p = ball2.centre - c1;
+    let w = ball2.velocity - ball1.velocity;
+    let reach = r1 + ball2.radius;
     let c = p.length_squared() - reach * reach;
     let b = p.dot(w);
+    let stop_at_penetration = in_contact.meets();
     let hit = |t: Real, at: Vector| {
         let len = at.length();
         if len.is_finite() && len > 0.0 {
             let n = at / len;
-            Some((t, n, c1 + n * r1))
+            Some(Touch {
+                time: t,
+                normal: n,
+                point: c1 + n * r1,
+            })
         } else {
             // Concentric: a meeting without geometry.
-            stop_at_penetration.then_some((t, Vector::ZERO, c1))
+            stop_at_penetration.then_some(Touch {
+                time: t,
+                normal: Vector::ZERO,
+                point: c1,
+            })
         }
     };
     if c <= 0.0 {
@@ -197,14 +208,102 @@ pub(crate) fn ball_ball(
     hit(t, p + w * t)
 }
 
+/// The first touch of a ball with a convex shape or a composite one: the
+/// time, the shape's outward world normal there, the world point on the
+/// shape and on the ball (each in its starting pose).
+#[derive(Copy, Clone, Debug, PartialEq)]
+struct BallTouch {
+    time: Real,
+    normal: Vector,
+    on_shape: Vector,
+    on_ball: Vector,
+}
+
+/// What the closed-form cast of a ball against a shape finds.
+#[derive(Copy, Clone, Debug, PartialEq)]
+enum BallCast<T = BallTouch> {
+    Touch(T),
+    Miss,
+    /// Not a case for the closed form (the centre lies exactly on the
+    /// shape's surface, no normal; or a part that is neither a segment, a
+    /// triangle nor a cuboid): parry decides.
+    ToParry,
+}
+
+impl<T> BallCast<T> {
+    /// The touch, if any, through `f`.
+    fn map<U>(self, f: impl FnOnce(T) -> U) -> BallCast<U> {
+        match self {
+            BallCast::Touch(t) => BallCast::Touch(f(t)),
+            BallCast::Miss => BallCast::Miss,
+            BallCast::ToParry => BallCast::ToParry,
+        }
+    }
+}
+
+/// A ball against a cuboid or a composite shape (either one first) in
+/// closed form, as [`Touch`]es from `a` towards `b`.
+fn ball_against_shape(
+    a: &Moving,
+    b: &Moving,
+    window: Real,
+    in_contact: InContact,
+) -> BallCast<Touch> {
+    if let Some(ball) = a.shape.as_ball() {
+        let ball = MovingBall {
+            centre: a.pose.translation,
+            velocity: a.velocity - b.velocity,
+            radius: ball.radius,
+        };
+        // The normal from the ball towards the shape, the point on the ball.
+        return ball_against(ball, a.pose, b, window, in_contact).map(|t| Touch {
+            time: t.time,
+            normal: -t.normal,
+            point: t.on_ball,
+        });
+    }
+    if let Some(ball) = b.shape.as_ball() {
+        let ball = MovingBall {
+            centre: b.pose.translation,
+            velocity: b.velocity - a.velocity,
+            radius: ball.radius,
+        };
+        // The normal from the shape towards the ball, the point on the shape.
+        return ball_against(ball, b.pose, a, window, in_contact).map(|t| Touch {
+            time: t.time,
+            normal: t.normal,
+            point: t.on_shape,
+        });
+    }
+    BallCast::ToParry
+}
+
+/// Ball `ball` (whose pose is `ball_pose`; its velocity relative to the
+/// shape) against `shape`: a cuboid or a composite shape.
+fn ball_against(
+    ball: MovingBall,
+    ball_pose: &Pose,
+    shape: &Moving,
+    window: Real,
+    in_contact: InContact,
+) -> BallCast {
+    let (w, radius) = (ball.velocity, ball.radius);
+    if let Some(cuboid) = shape.shape.as_cuboid() {
+        ball_convex(ball_pose, w, radius, shape.pose, cuboid, window, in_contact)
+    } else if let Some(parts) = shape.shape.as_composite_shape() {
+        ball_parts(ball_pose, w, radius, shape.pose, parts, window, in_contact)
+    } else {
+        BallCast::ToParry
+    }
+}
+
 /// A ball of radius `radius` centred at `ball.translation`, moving at `w`
 /// relative to a convex shape at `cuboid_pose` (a cuboid; a segment or a
 /// triangle of a composite shape): the first time within `window` when it
 /// touches, the shape's outward world normal there, the world point on the
 /// shape (in its starting pose) and on the ball (in its starting pose).
-/// `Err(())` when the centre lies exactly on the shape's surface (no
-/// normal): parry decides that rare case.
-#[allow(clippy::type_complexity)]
+/// [`BallCast::ToParry`] when the centre lies exactly on the shape's
+/// surface (no normal): parry decides that rare case.
 fn ball_convex<S: PointQuery + ?Sized>(
     ball: &Pose,
     w: Vector,
@@ -212,8 +311,8 @@ fn ball_convex<S: PointQuery + ?Sized>(
     cuboid_pose: &Pose,
     cuboid: &S,
     window: Real,
-    stop_at_penetration: bool,
-) -> Result<Option<(Real, Vector, Vector, Vector)>, ()> {
+    in_contact: InContact,
+) -> BallCast {
     // In the cuboid's frame (its rotation stays put on a linear cast).
     let c0 = cuboid_pose.inverse_transform_point(ball.translation);
     let w = cuboid_pose.inverse_transform_vector(w);
@@ -222,50 +321,55 @@ fn ball_convex<S: PointQuery + ?Sized>(
     let tolerance = scale * Real::EPSILON * 16.0;
     // The cuboid's point nearest the centre at time t, its outward normal
     // there and the signed gap; `Err` with the centre on the surface.
-    let nearest = |t: Real| -> Result<(Vector, Vector, Real), ()> {
+    // (None with the centre on the surface.)
+    let nearest = |t: Real| -> Option<(Vector, Vector, Real)> {
         let c = c0 + w * t;
         let projection = cuboid.project_local_point(c, false);
         let to_surface = projection.point - c;
         let distance = to_surface.length();
         if !distance.is_finite() || distance == 0.0 {
-            return Err(());
+            return None;
         }
-        Ok(if projection.is_inside {
+        Some(if projection.is_inside {
             (projection.point, to_surface / distance, -distance - radius)
         } else {
             (projection.point, -to_surface / distance, distance - radius)
         })
     };
-    let hit = |t: Real, point: Vector, normal: Vector| {
+    let hit = |time: Real, point: Vector, normal: Vector| {
         let world_normal = cuboid_pose.transform_vector(normal);
-        (
-            t,
-            world_normal,
-            cuboid_pose.transform_point(point),
-            ball.translation - world_normal * radius,
-        )
+        BallCast::Touch(BallTouch {
+            time,
+            normal: world_normal,
+            on_shape: cuboid_pose.transform_point(point),
+            on_ball: ball.translation - world_normal * radius,
+        })
     };
     let mut t: Real = 0.0;
     for _ in 0..MAX_ITERATIONS {
-        let (point, normal, gap) = nearest(t)?;
+        let Some((point, normal, gap)) = nearest(t) else {
+            return BallCast::ToParry;
+        };
         let closing = -w.dot(normal);
         let touching = gap <= tolerance;
-        if touching && (t > 0.0 || stop_at_penetration || closing > 0.0) {
-            return Ok(Some(hit(t, point, normal)));
+        if touching && (t > 0.0 || in_contact.meets() || closing > 0.0) {
+            return hit(t, point, normal);
         }
         // Separating (or parallel) at a convex obstacle: the distance never
         // decreases again along the path.
         if closing <= 0.0 {
-            return Ok(None);
+            return BallCast::Miss;
         }
         t += gap / closing;
         if t > window {
-            return Ok(None);
+            return BallCast::Miss;
         }
     }
     // Not converged (a glancing corner): the estimate is never late.
-    let (point, normal, _) = nearest(t)?;
-    Ok(Some(hit(t, point, normal)))
+    match nearest(t) {
+        Some((point, normal, _)) => hit(t, point, normal),
+        None => BallCast::ToParry,
+    }
 }
 
 /// A ball against a composite shape (a polyline, a triangle mesh): the
@@ -273,8 +377,9 @@ fn ball_convex<S: PointQuery + ?Sized>(
 /// [`ball_convex`] casts a cuboid (a segment and a triangle are convex
 /// too), the earliest touch kept. parry's own composite cast would run GJK
 /// per part, and EPA (which allocates) for a part the ball starts on.
-/// Returns as [`ball_convex`] does; `Err` when a part is neither a
-/// segment, a triangle nor a cuboid, or the ball's centre is on a part.
+/// Returns as [`ball_convex`] does; [`BallCast::ToParry`] when a part is
+/// neither a segment, a triangle nor a cuboid, or the ball's centre is on
+/// a part.
 fn ball_parts(
     ball: &Pose,
     w: Vector,
@@ -282,35 +387,38 @@ fn ball_parts(
     parts_pose: &Pose,
     parts: &(dyn CompositeShape + Sync),
     window: Real,
-    stop_at_penetration: bool,
-) -> Result<Option<(Real, Vector, Vector, Vector)>, ()> {
+    in_contact: InContact,
+) -> BallCast {
     let c0 = parts_pose.inverse_transform_point(ball.translation);
     let path = parts_pose.inverse_transform_vector(w) * window;
     let path_box = Aabb::new(
         c0.min(c0 + path) - Vector::splat(radius),
         c0.max(c0 + path) + Vector::splat(radius),
     );
-    let mut best: Result<Option<(Real, Vector, Vector, Vector)>, ()> = Ok(None);
+    let mut best: BallCast = BallCast::Miss;
     for part in parts.bvh().intersect_aabb(&path_box) {
-        let Ok(found) = &best else {
-            break;
+        let until = match best {
+            BallCast::ToParry => break,
+            BallCast::Miss => window,
+            BallCast::Touch(found) => found.time,
         };
-        let until = found.map_or(window, |hit| hit.0);
         parts.map_part_at(part, &mut |part_pose, shape, _| {
             let pose = part_pose.map_or(*parts_pose, |p| *parts_pose * *p);
-            let hit = if let Some(segment) = shape.as_segment() {
-                ball_convex(ball, w, radius, &pose, segment, until, stop_at_penetration)
+            let cast = if let Some(segment) = shape.as_segment() {
+                ball_convex(ball, w, radius, &pose, segment, until, in_contact)
             } else if let Some(triangle) = shape.as_triangle() {
-                ball_convex(ball, w, radius, &pose, triangle, until, stop_at_penetration)
+                ball_convex(ball, w, radius, &pose, triangle, until, in_contact)
             } else if let Some(cuboid) = shape.as_cuboid() {
-                ball_convex(ball, w, radius, &pose, cuboid, until, stop_at_penetration)
+                ball_convex(ball, w, radius, &pose, cuboid, until, in_contact)
             } else {
-                Err(())
+                BallCast::ToParry
             };
-            best = match hit {
-                Err(()) => Err(()),
-                Ok(Some(hit)) if hit.0 < until || best == Ok(None) => Ok(Some(hit)),
-                Ok(_) => best,
+            best = match cast {
+                BallCast::ToParry => BallCast::ToParry,
+                BallCast::Touch(hit) if hit.time < until || best == BallCast::Miss => {
+                    BallCast::Touch(hit)
+                }
+                BallCast::Touch(_) | BallCast::Miss => best,
             };
         });
     }
@@ -401,6 +509,30 @@ mod tests {
             .fold(Real::INFINITY, Real::min)
     }
 
+    /// The cast as the replay asks it (a pair leaving an overlap does not
+    /// meet), as (time, normal, point); every pair here is supported.
+    fn linear(
+        (pos1, v1, s1): (&Pose, Vector, &dyn Shape),
+        (pos2, v2, s2): (&Pose, Vector, &dyn Shape),
+        window: Real,
+    ) -> Option<(Real, Vector, Vector)> {
+        let a = Moving {
+            pose: pos1,
+            velocity: v1,
+            shape: s1,
+        };
+        let b = Moving {
+            pose: pos2,
+            velocity: v2,
+            shape: s2,
+        };
+        match cast(a, b, window, InContact::MeetsIfClosing) {
+            CastOutcome::Touch(t) => Some((t.time, t.normal, t.point)),
+            CastOutcome::Miss => None,
+            CastOutcome::Unsupported => panic!("an unsupported pair"),
+        }
+    }
+
     /// parry's cast of the same pair (the reference away from grazes).
     fn parry_cast(
         pos1: &Pose,
@@ -453,8 +585,7 @@ mod tests {
             let tol = 1e-3 * radius.max(1.0);
             // Along the path relative to the box (the box stays put).
             let at = |t: Real| gap(centre + w * t, radius, &box_pose, &cuboid);
-            let mine = cast(&ball_pose, v_ball, &ball, &box_pose, v_box, &cuboid, window, false)
-                .expect("supported");
+            let mine = linear((&ball_pose, v_ball, &ball), (&box_pose, v_box, &cuboid), window);
             first_touch(mine.map(|h| h.0), at, window, tol, tol)?;
             match mine {
                 Some((t, normal, _)) => {
@@ -520,15 +651,13 @@ mod tests {
                 .map_or(Real::INFINITY, |c| c.dist)
             };
             let zero = Vector::ZERO;
-            let mine = cast(&ball_pose, v_ball, &ball, &line_pose, zero, &line, window, false)
-                .expect("supported");
+            let mine = linear((&ball_pose, v_ball, &ball), (&line_pose, zero, &line), window);
             // Starting on one segment and leaving it, the ball may still hit
             // another: the path is checked for pairs that start apart.
             if gap_at(0.0) > tol {
                 first_touch(mine.map(|h| h.0), gap_at, window, tol, tol)?;
             }
-            let swapped = cast(&line_pose, zero, &line, &ball_pose, v_ball, &ball, window, false)
-                .expect("supported");
+            let swapped = linear((&line_pose, zero, &line), (&ball_pose, v_ball, &ball), window);
             prop_assert_eq!(mine.map(|h| h.0), swapped.map(|h| h.0));
             if let (Some((_, n, _)), Some((_, m, _))) = (mine, swapped) {
                 prop_assert!((n + m).length() < 1e-4, "{n:?} vs {m:?}");
@@ -566,7 +695,7 @@ mod tests {
             let reach = r1 + r2;
             let tol = 1e-4 * reach.max(1.0);
             let gap = |t: Real| ((c2 + v2 * t) - (c1 + v1 * t)).length() - reach;
-            let mine = cast(&pos1, v1, &b1, &pos2, v2, &b2, window, false).expect("supported");
+            let mine = linear((&pos1, v1, &b1), (&pos2, v2, &b2), window);
             first_touch(mine.map(|h| h.0), gap, window, tol, 0.0)?;
             match mine {
                 Some((t, n, point)) => {

@@ -1,6 +1,5 @@
 //! What kimpact reports of the impacts it handles.
 
-use crate::candidates::Candidate;
 use crate::math::{DIM, Real, Vector, from_law};
 use crate::rapier::prelude::ColliderHandle;
 
@@ -70,32 +69,36 @@ pub(crate) struct Outcome {
     unmet_dissipation: Real,
 }
 
-impl From<&kimpact::Impact<Real, DIM>> for Outcome {
-    fn from(impact: &kimpact::Impact<Real, DIM>) -> Self {
-        Self {
-            normal: from_law(&impact.normal),
-            impulse: impact.impulse,
-            approach_speed: impact.approach_speed,
-            restitution: impact.restitution,
-            dissipated: impact.dissipated,
-            clamped: impact.clamped,
-            unmet_dissipation: impact.unmet_dissipation,
+/// `From<&$impact> for Outcome`: the law's two impact types report the
+/// same fields.
+macro_rules! outcome_from {
+    ($impact:ty) => {
+        impl From<&$impact> for Outcome {
+            fn from(impact: &$impact) -> Self {
+                Self {
+                    normal: from_law(&impact.normal),
+                    impulse: impact.impulse,
+                    approach_speed: impact.approach_speed,
+                    restitution: impact.restitution,
+                    dissipated: impact.dissipated,
+                    clamped: impact.clamped,
+                    unmet_dissipation: impact.unmet_dissipation,
+                }
+            }
         }
-    }
+    };
 }
 
-impl From<&kimpact::RigidImpact<Real, DIM>> for Outcome {
-    fn from(impact: &kimpact::RigidImpact<Real, DIM>) -> Self {
-        Self {
-            normal: from_law(&impact.normal),
-            impulse: impact.impulse,
-            approach_speed: impact.approach_speed,
-            restitution: impact.restitution,
-            dissipated: impact.dissipated,
-            clamped: impact.clamped,
-            unmet_dissipation: impact.unmet_dissipation,
-        }
-    }
+outcome_from!(kimpact::Impact<Real, DIM>);
+outcome_from!(kimpact::RigidImpact<Real, DIM>);
+
+/// Who applies an impact's change of velocities.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub(crate) enum AppliedBy {
+    /// kimpact's replay, after rapier's step.
+    Replay,
+    /// rapier's solver, with the law's restitution in the pair's manifold.
+    Solver,
 }
 
 /// A step's impact events and the running totals: what every stage
@@ -107,25 +110,25 @@ pub(crate) struct EventLog {
 }
 
 impl EventLog {
-    /// Record one law impact of pair `c` at `time`.
+    /// Record one law impact of the pair of colliders `[collider1,
+    /// collider2]` at `time`, touching at `point`.
     pub(crate) fn push(
         &mut self,
-        c: &Candidate,
+        [collider1, collider2]: [ColliderHandle; 2],
         time: Real,
         point: Vector,
-        impact: impl Into<Outcome>,
-        by_solver: bool,
+        impact: Outcome,
+        by: AppliedBy,
     ) {
-        let impact: Outcome = impact.into();
         self.stats.impacts += 1;
         self.stats.clamped += u64::from(impact.clamped);
         self.stats.dissipated += f64::from(impact.dissipated);
         self.stats.record_unmet(f64::from(impact.unmet_dissipation));
         self.events.push(ImpactEvent {
-            collider1: c.collider1,
-            collider2: c.collider2,
+            collider1,
+            collider2,
             time,
-            by_solver,
+            by_solver: by == AppliedBy::Solver,
             point,
             normal: impact.normal,
             impulse: impact.impulse,
@@ -138,11 +141,9 @@ impl EventLog {
     }
 
     /// Count and log a pair skipped for non-finite body data.
-    pub(crate) fn skip(&mut self, c: &Candidate) {
+    pub(crate) fn skip(&mut self, [collider1, collider2]: [ColliderHandle; 2]) {
         log::warn!(
-            "kimpact: skipped the pair {:?}/{:?}: a body has a non-finite velocity or mass",
-            c.collider1,
-            c.collider2
+            "kimpact: skipped the pair {collider1:?}/{collider2:?}: a body has a non-finite velocity or mass"
         );
         self.stats.skipped_non_finite += 1;
     }

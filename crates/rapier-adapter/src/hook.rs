@@ -6,8 +6,10 @@ use kimpact::Law;
 
 use crate::body_view::{LawBody, dominated, law_body, path_velocity};
 use crate::candidates::{Candidate, Candidates};
+use crate::cast::{CastOutcome, InContact, Moving};
+use crate::events::AppliedBy;
 use crate::frame::StepFrame;
-use crate::marks::Marks;
+use crate::marks::{Marks, Partners};
 use crate::math::{Real, Vector};
 use crate::mode::Mode;
 use crate::prepare::Prepare;
@@ -31,7 +33,8 @@ pub struct StepHooks<'a> {
     /// user, [`Prepare::ours`]) and which of them touch something
     /// ([`Prepare::is_crowded`]).
     pub(crate) prepare: &'a Prepare,
-    pub(crate) fixed_partners: bool,
+    /// Which pairs of a marked collider the law governs.
+    pub(crate) partners: Partners,
     pub(crate) candidates: &'a Candidates,
     /// Pairs cut off by the runtime guard this step.
     pub(crate) guarded: &'a AtomicU64,
@@ -45,7 +48,7 @@ impl std::fmt::Debug for StepHooks<'_> {
             .field("law", self.law)
             .field("frame", &self.frame)
             .field("mode", &self.mode)
-            .field("fixed_partners", &self.fixed_partners)
+            .field("partners", &self.partners)
             .finish_non_exhaustive()
     }
 }
@@ -115,21 +118,17 @@ impl StepHooks<'_> {
             return;
         }
         let (colliders, bodies) = (context.colliders, context.bodies);
-        if !self
-            .marks
-            .governs(self.fixed_partners, colliders, bodies, c1, c2)
-        {
+        if !self.marks.governs(self.partners, colliders, bodies, c1, c2) {
             if self
                 .marks
-                .governs_rigid(self.fixed_partners, colliders, bodies, c1, c2)
+                .governs_rigid(self.partners, colliders, bodies, c1, c2)
             {
                 self.respond_rigid(context, &frame);
             }
             return;
         }
         let (dt, rest_speed, margin) = (frame.dt, frame.rest_speed, frame.gravity_speed);
-        let (bodies, colliders) = (context.bodies, context.colliders);
-        let (rb1, rb2) = (context.rigid_body1, context.rigid_body2);
+        let pair = PairIds::of(context);
         let Some((b1, b2)) = self.law_bodies(context) else {
             return;
         };
@@ -171,6 +170,17 @@ impl StepHooks<'_> {
             Mode::Restitution => self.prepare.is_swept(c1) || self.prepare.is_swept(c2),
             Mode::Impulse | Mode::Exact => true,
         };
+        let candidate = |applied_by| Candidate {
+            collider1: c1,
+            collider2: c2,
+            normal: n,
+            point,
+            dist,
+            start1: b1,
+            start2: b2,
+            applied_by,
+            rigid: None,
+        };
         if !by_replay
             && self.mode == Mode::Restitution
             && approach > rest_speed
@@ -178,7 +188,7 @@ impl StepHooks<'_> {
             && dist <= reach
             && !self.prepare.is_crowded(c1)
             && !self.prepare.is_crowded(c2)
-            && !self.meets(&frame, bodies, colliders, c1, c2, rb1, rb2)
+            && !self.meets(&frame, colliders, bodies, &pair)
         {
             rigid.solver_contacts.clear();
             return;
@@ -195,7 +205,7 @@ impl StepHooks<'_> {
                 // rapier leaves the pair alone this step; kimpact resolves
                 // it after the step.
                 rigid.solver_contacts.clear();
-                self.record(context, n, point, dist, b1, b2, true);
+                self.candidates.push(candidate(AppliedBy::Replay));
             } else {
                 // A contact rapier has been carrying: rapier's, unbounced.
                 *rigid.restitution = 0.0;
@@ -227,7 +237,7 @@ impl StepHooks<'_> {
                 // an impulse (a speculative contact further away gets none,
                 // and stays fresh for the next step).
                 if fresh && dist <= reach * 1.01 + Real::EPSILON {
-                    self.record(context, n, point, dist, b1, b2, false);
+                    self.candidates.push(candidate(AppliedBy::Solver));
                 }
             }
             // Invalid masses (a NaN mass reached rapier): no bounce, and the
@@ -356,71 +366,61 @@ impl StepHooks<'_> {
                 dist,
                 start1: b1,
                 start2: b2,
-                by_replay: false,
+                applied_by: AppliedBy::Solver,
                 rigid: Some(impact),
             });
         }
     }
 
-    /// Whether colliders `c1` and `c2` meet within this step on the straight
-    /// paths rapier is about to integrate (velocity plus gravity), by a
-    /// linear cast (closed form for two balls and for a ball and a cuboid,
-    /// parry's shape cast otherwise).
-    #[allow(clippy::too_many_arguments)]
+    /// Whether the colliders of `pair` meet within this step on the
+    /// straight paths rapier is about to integrate (velocity plus gravity),
+    /// by a linear cast (closed form for two balls and for a ball and a
+    /// cuboid, parry's shape cast otherwise).
     fn meets(
         &self,
         frame: &StepFrame,
-        bodies: &RigidBodySet,
         colliders: &ColliderSet,
-        c1: ColliderHandle,
-        c2: ColliderHandle,
-        rb1: Option<RigidBodyHandle>,
-        rb2: Option<RigidBodyHandle>,
+        bodies: &RigidBodySet,
+        pair: &PairIds,
     ) -> bool {
         let path = |h: Option<RigidBodyHandle>| {
             h.and_then(|h| bodies.get(h))
                 .map_or(Vector::ZERO, |rb| path_velocity(rb, frame.gravity_dt()))
         };
-        let (Some(co1), Some(co2)) = (colliders.get(c1), colliders.get(c2)) else {
+        let (Some(co1), Some(co2)) = (colliders.get(pair.c1), colliders.get(pair.c2)) else {
             return true;
         };
+        let a = Moving {
+            pose: co1.position(),
+            velocity: path(pair.rb1),
+            shape: co1.shape(),
+        };
+        let b = Moving {
+            pose: co2.position(),
+            velocity: path(pair.rb2),
+            shape: co2.shape(),
+        };
+        let window = frame.dt * (1.0 + GRAZE_HORIZON);
         // Anything but a clear "no" (an unsupported shape pair) is a meeting.
-        !matches!(
-            crate::cast::cast(
-                co1.position(),
-                path(rb1),
-                co1.shape(),
-                co2.position(),
-                path(rb2),
-                co2.shape(),
-                frame.dt * (1.0 + GRAZE_HORIZON),
-                true,
-            ),
-            Ok(None)
-        )
+        crate::cast::cast(a, b, window, InContact::Meets) != CastOutcome::Miss
     }
+}
 
-    #[allow(clippy::too_many_arguments)]
-    fn record(
-        &self,
-        context: &ContactModificationContext,
-        normal: Vector,
-        point: Vector,
-        dist: Real,
-        start1: LawBody,
-        start2: LawBody,
-        by_replay: bool,
-    ) {
-        self.candidates.push(Candidate {
-            collider1: context.collider1,
-            collider2: context.collider2,
-            normal,
-            point,
-            dist,
-            start1,
-            start2,
-            by_replay,
-            rigid: None,
-        });
+/// The colliders and bodies of the pair a hook call is about.
+struct PairIds {
+    c1: ColliderHandle,
+    c2: ColliderHandle,
+    rb1: Option<RigidBodyHandle>,
+    rb2: Option<RigidBodyHandle>,
+}
+
+impl PairIds {
+    fn of(context: &ContactModificationContext) -> Self {
+        Self {
+            c1: context.collider1,
+            c2: context.collider2,
+            rb1: context.rigid_body1,
+            rb2: context.rigid_body2,
+        }
     }
 }

@@ -54,8 +54,8 @@ pub use kimpact::{FixedPartner, ImpactFriction, Law, LawError, LawParams, Precis
 // calm, prepare                 stage 1: hook flags and starts
 // replay                        stages 1 and 3: impacts in time order
 // hook                          stage 2: the contact hook
-// resolver                      Kimpact: the public resolver and its stages;
-//                               resolver/snapshot: its saved form
+// snapshot                      the saved form of a resolver's state
+// resolver                      Kimpact: the public resolver and its stages
 mod body_view;
 mod calm;
 mod candidates;
@@ -75,6 +75,7 @@ mod prepare;
 mod replay;
 mod resolver;
 mod rigid_view;
+mod snapshot;
 mod sweep_grid;
 #[cfg(test)]
 mod test_rng;
@@ -84,4 +85,5 @@ pub use events::{ImpactEvent, Stats};
 pub use hook::StepHooks;
 pub use material::Material;
 pub use mode::{Mode, ParseModeError};
-pub use resolver::{HandleError, Kimpact, PreparedStep, Snapshot, SnapshotError};
+pub use resolver::{HandleError, Kimpact, PreparedStep};
+pub use snapshot::{Snapshot, SnapshotError};

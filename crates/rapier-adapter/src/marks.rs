@@ -29,6 +29,28 @@ pub(crate) struct Marks {
     extended: Vec<bool>,
 }
 
+/// Which partners of a marked collider the law governs besides marked
+/// ones ([`crate::ResolverConfig::fixed_partners`]).
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub(crate) enum Partners {
+    /// Only marked colliders.
+    Marked,
+    /// Marked colliders, and immovable ones (fixed, kinematic, dynamic with
+    /// every translation locked), marked or not.
+    MarkedOrImmovable,
+}
+
+impl Partners {
+    /// The partners of a configuration with `fixed_partners`.
+    pub(crate) fn of(fixed_partners: bool) -> Self {
+        if fixed_partners {
+            Partners::MarkedOrImmovable
+        } else {
+            Partners::Marked
+        }
+    }
+}
+
 /// Whether the law can govern collider `co` on a dynamic body: a ball
 /// centred on its body's origin (or a ball without a body). The law moves
 /// bodies as points (it changes linear velocities only, along the normal
@@ -158,20 +180,19 @@ impl Marks {
 
     /// Whether the law governs the pair: both marked, or one marked and the
     /// other immovable (fixed, kinematic, or dynamic with every translation
-    /// locked; when `fixed_partners`); and every marked collider of
+    /// locked; with [`Partners::MarkedOrImmovable`]); and every marked collider of
     /// a dynamic body in it a point collider (the pairs of any other are
     /// rapier's, as if it were not marked, but in restitution mode: see
     /// [`Marks::governs_rigid`]).
     pub(crate) fn governs(
         &self,
-        fixed_partners: bool,
+        partners: Partners,
         colliders: &ColliderSet,
         bodies: &RigidBodySet,
         c1: ColliderHandle,
         c2: ColliderHandle,
     ) -> bool {
-        !self.turning(colliders, bodies, c1, c2)
-            && self.pairs(fixed_partners, colliders, bodies, c1, c2)
+        !self.turning(colliders, bodies, c1, c2) && self.pairs(partners, colliders, bodies, c1, c2)
     }
 
     /// Whether the law governs the pair as rigid bodies at the manifold's
@@ -180,14 +201,13 @@ impl Marks {
     /// dynamic body.
     pub(crate) fn governs_rigid(
         &self,
-        fixed_partners: bool,
+        partners: Partners,
         colliders: &ColliderSet,
         bodies: &RigidBodySet,
         c1: ColliderHandle,
         c2: ColliderHandle,
     ) -> bool {
-        self.turning(colliders, bodies, c1, c2)
-            && self.pairs(fixed_partners, colliders, bodies, c1, c2)
+        self.turning(colliders, bodies, c1, c2) && self.pairs(partners, colliders, bodies, c1, c2)
     }
 
     /// Whether a marked collider of the pair is extended on a dynamic body.
@@ -204,10 +224,11 @@ impl Marks {
     }
 
     /// Whether the pair is the law's by its marks: both marked, or one
-    /// marked and the other immovable (with `fixed_partners`).
+    /// marked and the other immovable (with
+    /// [`Partners::MarkedOrImmovable`]).
     fn pairs(
         &self,
-        fixed_partners: bool,
+        partners: Partners,
         colliders: &ColliderSet,
         bodies: &RigidBodySet,
         c1: ColliderHandle,
@@ -217,7 +238,7 @@ impl Marks {
         if m1 && m2 {
             return true;
         }
-        if !(fixed_partners && (m1 || m2)) {
+        if !(partners == Partners::MarkedOrImmovable && (m1 || m2)) {
             return false;
         }
         let other = if m1 { c2 } else { c1 };

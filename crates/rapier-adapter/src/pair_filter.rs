@@ -36,7 +36,7 @@ impl<'a> PairFilter<'a> {
     }
 
     /// Whether rapier's solver would let colliders `c1` (`co1`) and `c2`
-    /// (`co2`) push each other, as its narrow phase decides it: both
+    /// (`co2`) of `pair` push each other, as its narrow phase decides it: both
     /// enabled, neither a sensor, their collision and solver groups
     /// admitting each other, their active collision types (either
     /// collider's) admitting their bodies' types (`dynamic` says whether
@@ -45,17 +45,14 @@ impl<'a> PairFilter<'a> {
     /// without self-contacts holding both), and the user's
     /// `filter_contact_pair` computing impulses for them when either
     /// collider asks for that hook.
-    #[allow(clippy::too_many_arguments)]
     pub(crate) fn admits(
         &self,
         bodies: &RigidBodySet,
         colliders: &ColliderSet,
-        c1: ColliderHandle,
-        co1: &Collider,
-        c2: ColliderHandle,
-        co2: &Collider,
+        pair: [(ColliderHandle, &Collider); 2],
         dynamic: bool,
     ) -> bool {
+        let [(c1, co1), (c2, co2)] = pair;
         if !(co1.is_enabled()
             && co2.is_enabled()
             && !co1.is_sensor()

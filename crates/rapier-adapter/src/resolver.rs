@@ -7,17 +7,18 @@ use kimpact::{Law, LawError, LawParams};
 
 use crate::candidates::Candidates;
 use crate::config::{ResolverConfig, ResolverConfigError};
-use crate::events::{EventLog, ImpactEvent, Stats};
+use crate::events::{AppliedBy, EventLog, ImpactEvent, Outcome, Stats};
 use crate::frame::StepFrame;
 use crate::hook::StepHooks;
-use crate::marks::Marks;
+use crate::marks::{Marks, Partners};
 use crate::material::Material;
 use crate::math::{Real, Vector, to_law};
 use crate::mode::Mode;
 use crate::pair_filter::PairFilter;
 use crate::prepare::{Prepare, PrepareInput};
 use crate::rapier::prelude::*;
-use crate::replay::{Replay, ReplayInput, ReplayOutput};
+use crate::replay::{Replay, ReplayInput, ReplayOutput, ReplaySets};
+use crate::snapshot::{Saving, Snapshot, SnapshotError};
 
 /// A collider handle that is not in the collider set it was checked
 /// against.
@@ -277,6 +278,41 @@ impl Kimpact {
         self.log.stats
     }
 
+    /// This resolver's [`Snapshot`]; take it between steps (after
+    /// [`Kimpact::after_step`], or [`Kimpact::step`]).
+    pub fn snapshot(&self) -> Snapshot {
+        Snapshot::save(Saving {
+            law: &self.law,
+            mode: self.mode,
+            config: &self.config,
+            marks: &self.marks,
+            stats: self.log.stats,
+            carried: self.prepare.carried(),
+        })
+    }
+
+    /// The resolver `snapshot` saved, to step on with rapier's world of the
+    /// same moment, whose collider set is `colliders`. A marked collider
+    /// that is no longer in `colliders` (removed before the snapshot was
+    /// taken) is not marked again: its handle can never be valid again.
+    ///
+    /// # Errors
+    /// [`SnapshotError::Format`] for a snapshot of another format than
+    /// [`Snapshot::FORMAT`]; [`SnapshotError::Config`] or
+    /// [`SnapshotError::Material`] naming an invalid field of one read from
+    /// serde data.
+    pub fn from_snapshot(
+        snapshot: Snapshot,
+        colliders: &ColliderSet,
+    ) -> Result<Self, SnapshotError> {
+        let saved = snapshot.restore(colliders)?;
+        let mut kimpact = Self::with_config(saved.law, saved.mode, saved.config)?;
+        kimpact.marks = saved.marks;
+        kimpact.prepare = Prepare::from_carried(saved.carried);
+        kimpact.log.stats = saved.stats;
+        Ok(kimpact)
+    }
+
     /// Step a [`PhysicsWorld`] through kimpact (see [`Kimpact::step`]).
     pub fn step_world(
         &mut self,
@@ -429,7 +465,7 @@ impl Kimpact {
             mode: prepared.mode,
             marks: &self.marks,
             prepare: &self.prepare,
-            fixed_partners: self.config.fixed_partners,
+            partners: Partners::of(self.config.fixed_partners),
             candidates: &self.candidates,
             guarded: &self.guarded,
             user,
@@ -489,6 +525,7 @@ impl Kimpact {
                 };
                 let input = ReplayInput {
                     law: &self.law,
+                    mode,
                     config: &self.config,
                     marks: &self.marks,
                     flagged: swept,
@@ -501,15 +538,13 @@ impl Kimpact {
                     log: &mut self.log,
                     woken: &mut self.prepare.woken,
                 };
-                self.replay.run(
-                    &input,
-                    &mut out,
+                let sets = ReplaySets {
                     bodies,
                     colliders,
                     narrow_phase,
                     broad_phase,
-                    mode,
-                );
+                };
+                self.replay.run(&input, sets, &mut out);
             }
         }
     }
@@ -527,7 +562,7 @@ impl Kimpact {
     /// per-triangle manifolds keep none.
     fn report_by_solver(&mut self, narrow_phase: &NarrowPhase) {
         for c in self.candidates.sorted() {
-            if c.by_replay {
+            if c.applied_by == AppliedBy::Replay {
                 continue;
             }
             let bounced = narrow_phase
@@ -541,24 +576,24 @@ impl Kimpact {
                 continue;
             }
             if let Some(impact) = &c.rigid {
-                self.log.push(c, 0.0, c.point, impact, true);
+                let outcome = Outcome::from(impact);
+                self.log
+                    .push(c.colliders(), 0.0, c.point, outcome, AppliedBy::Solver);
                 continue;
             }
             let (Ok(b1), Ok(b2)) = (c.start1.checked(), c.start2.checked()) else {
-                self.log.skip(c);
+                self.log.skip(c.colliders());
                 continue;
             };
             let law = self.marks.law(&self.law, c.collider1, c.collider2);
             if let Some(impact) = law.resolve_unit(&b1, &b2, &to_law(c.normal)) {
-                self.log.push(c, 0.0, c.point, &impact, true);
+                let outcome = Outcome::from(&impact);
+                self.log
+                    .push(c.colliders(), 0.0, c.point, outcome, AppliedBy::Solver);
             }
         }
     }
 }
-
-mod snapshot;
-
-pub use snapshot::{Snapshot, SnapshotError};
 
 #[cfg(test)]
 mod sweep_tests;

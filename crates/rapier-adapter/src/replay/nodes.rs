@@ -1,12 +1,17 @@
 //! The replay's nodes (a body, or a collider without one) and pairs: made
 //! once per run, found by collider and body index.
 
-use super::*;
-use crate::body_view::translations_locked;
+use super::context::Run;
+use super::node::{BallOnPath, Hit, Key, Motion, NO_PAIR, Node, Pair, RigidState, Slot};
+use super::state::Replay;
+use crate::body_view::{translations_locked, translations_partly_locked};
+use crate::math::{Pose, Real, Vector};
+use crate::rapier::prelude::*;
+use crate::rigid_view::{angular, inverse_inertia, zero_angular};
 
 /// A node with this many pairs is crowded (a body spawned into others, a
 /// dense pile): whether a pair of it is in the run is looked up in
-/// [`Replay::crowd_pairs`] rather than by walking its list.
+/// `Replay::crowd_pairs` rather than by walking its list.
 const CROWD: u32 = 32;
 
 /// The pair of colliders `c1` and `c2`, in either order, as one key.
@@ -22,7 +27,6 @@ impl Replay {
         self.degrees.clear();
         self.crowd_pairs.clear();
         self.hit.clear();
-        self.spins.clear();
         self.stamp = self.stamp.wrapping_add(1);
         if self.stamp == 0 {
             // Wrapped: forget every old stamp.
@@ -44,11 +48,9 @@ impl Replay {
     /// has none yet.
     pub(super) fn node(
         &mut self,
-        input: &ReplayInput,
-        bodies: &RigidBodySet,
+        run: &Run,
         collider: ColliderHandle,
         parent: Option<RigidBodyHandle>,
-        dt: Real,
     ) -> usize {
         if let Some(n) = self.collider_node(collider) {
             return n;
@@ -57,9 +59,9 @@ impl Replay {
         let n = match parent {
             Some(h) => match self.body_node(Some(h)) {
                 Some(n) => n,
-                None => self.new_node(input, bodies, Key::Body(h), dt),
+                None => self.new_node(run, Key::Body(h)),
             },
-            None => self.new_node(input, bodies, Key::Collider(collider), dt),
+            None => self.new_node(run, Key::Collider(collider)),
         };
         let index = collider.into_raw_parts().0;
         Slot::set(&mut self.collider_slots, index, self.stamp, n);
@@ -90,104 +92,16 @@ impl Replay {
     }
 
     /// A new node for `key` (a body, or a collider without one).
-    pub(super) fn new_node(
-        &mut self,
-        input: &ReplayInput,
-        bodies: &RigidBodySet,
-        key: Key,
-        dt: Real,
-    ) -> usize {
-        let parent = match key {
-            Key::Body(h) => Some(h),
-            Key::Collider(_) => None,
-        };
-        let rb = parent.and_then(|h| bodies.get(h));
-        // A dynamic body whose every translation is locked does not move:
-        // an immovable node, as a fixed body's.
-        let moves = rb.is_some_and(|rb| rb.is_dynamic() && !translations_locked(rb));
-        let node = match rb {
-            Some(rb) if moves => {
-                let x1 = rb.translation();
-                let handle = parent.expect("a body has a handle");
-                let x0 = input.starts.of(handle).unwrap_or(x1);
-                // rapier's velocity when the body moved with it (free flight:
-                // exact, where (x₁ − x₀)/dt would round), the chord otherwise;
-                // but not the chord of a motion rapier's CCD cut short (a fast
-                // body sweeps fixed colliders, a CCD-enabled one everything):
-                // that stop is at rapier's time of impact, with rapier's
-                // response, which the law replaces (the chord of a ball a CCD
-                // pass stopped at a wall is slower than the ball, and the law
-                // would meet the wall late).
-                let v1 = rb.linvel();
-                let moved = x1 - x0;
-                let slack = 8.0 * Real::EPSILON * (x1.abs() + x0.abs()).max_element();
-                let free = (moved - v1 * dt).abs().max_element() <= slack;
-                let v_bar = if free || rb.is_ccd_active() {
-                    v1
-                } else {
-                    moved / dt
-                };
-                Node {
-                    key,
-                    dynamic: true,
-                    x1,
-                    p: x0,
-                    v: v_bar,
-                    u: v1,
-                    t_ref: 0.0,
-                    g_dt: self.gravity_dt * rb.gravity_scale(),
-                    g_half: input.frame.gravity
-                        * (rb.gravity_scale() * input.frame.half_substep(rb)),
-                    expanded: false,
-                    hit: false,
-                    swept: None,
-                    sweep_due: None,
-                    mass: Real::NAN,
-                    dominance: 0,
-                    spin: NO_SPIN,
-                }
+    fn new_node(&mut self, run: &Run, key: Key) -> usize {
+        let node = match key.body().and_then(|h| run.bodies.get(h)) {
+            // A dynamic body whose every translation is locked does not
+            // move: an immovable node, as a fixed body's.
+            Some(rb) if rb.is_dynamic() && !translations_locked(rb) => {
+                let start = key.body().and_then(|h| run.input.starts.of(h));
+                moving_node(run, key, rb, start)
             }
-            Some(rb) => {
-                let x1 = rb.translation();
-                let v = rb.linvel();
-                Node {
-                    key,
-                    dynamic: false,
-                    x1,
-                    p: x1,
-                    v,
-                    u: v,
-                    // Where the body is now: the end of the step.
-                    t_ref: dt,
-                    g_dt: Vector::ZERO,
-                    g_half: Vector::ZERO,
-                    expanded: true,
-                    hit: false,
-                    swept: None,
-                    sweep_due: None,
-                    mass: Real::NAN,
-                    dominance: 0,
-                    spin: NO_SPIN,
-                }
-            }
-            None => Node {
-                key,
-                dynamic: false,
-                x1: Vector::ZERO,
-                p: Vector::ZERO,
-                v: Vector::ZERO,
-                u: Vector::ZERO,
-                t_ref: dt,
-                g_dt: Vector::ZERO,
-                g_half: Vector::ZERO,
-                expanded: true,
-                hit: false,
-                swept: None,
-                sweep_due: None,
-                mass: Real::NAN,
-                dominance: 0,
-                spin: NO_SPIN,
-            },
+            Some(rb) => still_node(key, rb, run.dt),
+            None => still(key, Vector::ZERO, run.dt),
         };
         let i = self.nodes.len();
         self.nodes.push(node);
@@ -199,35 +113,34 @@ impl Replay {
         i
     }
 
+    /// Bring the pair of colliders `c1` and `c2` into the run (making
+    /// their nodes), unless it is in already or rapier would not let it
+    /// touch; its number.
     pub(super) fn add_pair(
         &mut self,
-        input: &ReplayInput,
-        bodies: &RigidBodySet,
-        colliders: &ColliderSet,
+        run: &Run,
         c1: ColliderHandle,
         c2: ColliderHandle,
-        dt: Real,
     ) -> Option<usize> {
         // Already in (a node has a handful of pairs: a scan beats a set).
         if self.has_pair(c1, c2) {
             return None;
         }
+        let colliders = run.colliders;
         let (co1, co2) = (colliders.get(c1)?, colliders.get(c2)?);
         let (p1, p2) = (co1.parent(), co2.parent());
-        let a = self.node(input, bodies, c1, p1, dt);
-        let b = self.node(input, bodies, c2, p2, dt);
-        let dynamic = self.nodes[a].dynamic || self.nodes[b].dynamic;
+        let a = self.node(run, c1, p1);
+        let b = self.node(run, c2, p2);
+        let dynamic = self.nodes[a].dynamic() || self.nodes[b].dynamic();
         if a == b
-            || !input
+            || !run
+                .input
                 .filter
-                .admits(bodies, colliders, c1, co1, c2, co2, dynamic)
+                .admits(run.bodies, colliders, [(c1, co1), (c2, co2)], dynamic)
         {
             return None;
         }
-        let balls = match (
-            self.ball(bodies, colliders, a, c1),
-            self.ball(bodies, colliders, b, c2),
-        ) {
+        let balls = match (self.ball(run, a, c1), self.ball(run, b, c2)) {
             (Some(b1), Some(b2)) => Some([b1, b2]),
             _ => None,
         };
@@ -238,8 +151,7 @@ impl Replay {
             c1,
             c2,
             balls,
-            normal: Vector::ZERO,
-            point: Vector::ZERO,
+            hit: Hit::NONE,
             apart_at: Real::NEG_INFINITY,
             next: [NO_PAIR; 2],
         });
@@ -296,29 +208,20 @@ impl Replay {
     /// The pose of collider `c` of node `n` at time `t`. Taken from the
     /// body's pose (rapier syncs collider poses only inside its step, so
     /// before the step a body the user moved has a stale collider pose).
-    pub(super) fn pose(
-        &self,
-        bodies: &RigidBodySet,
-        colliders: &ColliderSet,
-        n: usize,
-        c: ColliderHandle,
-        t: Real,
-    ) -> Option<Pose> {
-        Some(self.nodes[n].moved(rest_pose(bodies, colliders.get(c)?), t))
+    pub(super) fn pose(&self, run: &Run, n: usize, c: ColliderHandle, t: Real) -> Option<Pose> {
+        let rest = rest_pose(run.bodies, run.colliders.get(c)?);
+        Some(self.nodes[n].moved(rest, t))
     }
 
     /// Collider `c` of node `n`, if it is a ball: its radius and its
     /// centre's offset from the node's path (see [`Pair::balls`]).
-    pub(super) fn ball(
-        &self,
-        bodies: &RigidBodySet,
-        colliders: &ColliderSet,
-        n: usize,
-        c: ColliderHandle,
-    ) -> Option<BallOnPath> {
-        let co = colliders.get(c)?;
+    pub(super) fn ball(&self, run: &Run, n: usize, c: ColliderHandle) -> Option<BallOnPath> {
+        let co = run.colliders.get(c)?;
         let radius = co.shape().as_ball()?.radius;
-        Some((radius, rest_pose(bodies, co).translation - self.nodes[n].x1))
+        Some((
+            radius,
+            rest_pose(run.bodies, co).translation - self.nodes[n].x1,
+        ))
     }
 }
 
@@ -333,5 +236,108 @@ pub(super) fn rest_pose(bodies: &RigidBodySet, co: &Collider) -> Pose {
     ) {
         (Some(rb), Some(local)) => *rb.position() * *local,
         _ => *co.position(),
+    }
+}
+
+/// The node of a dynamic body `rb` (key `key`) that moves, from `start`
+/// (where it started the step, if stored) to where it is now.
+fn moving_node(run: &Run, key: Key, rb: &RigidBody, start: Option<Vector>) -> Node {
+    let dt = run.dt;
+    let x1 = rb.translation();
+    let x0 = start.unwrap_or(x1);
+    // rapier's velocity when the body moved with it (free flight:
+    // exact, where (x₁ − x₀)/dt would round), the chord otherwise;
+    // but not the chord of a motion rapier's CCD cut short (a fast
+    // body sweeps fixed colliders, a CCD-enabled one everything):
+    // that stop is at rapier's time of impact, with rapier's
+    // response, which the law replaces (the chord of a ball a CCD
+    // pass stopped at a wall is slower than the ball, and the law
+    // would meet the wall late).
+    let v1 = rb.linvel();
+    let moved = x1 - x0;
+    let slack = 8.0 * Real::EPSILON * (x1.abs() + x0.abs()).max_element();
+    let free = (moved - v1 * dt).abs().max_element() <= slack;
+    let v_bar = if free || rb.is_ccd_active() {
+        v1
+    } else {
+        moved / dt
+    };
+    // Some translations locked, others free: the pair is rapier's.
+    let motion = if translations_partly_locked(rb) {
+        Motion::PartlyLocked
+    } else {
+        Motion::Moves
+    };
+    let mut pose = *rb.position();
+    pose.translation = x0;
+    let frame = run.input.frame;
+    Node {
+        motion,
+        x1,
+        body: RigidState {
+            pose,
+            linvel: v1,
+            inv_mass: rb.mass_properties().local_mprops.inv_mass,
+            ..rigid_state(rb)
+        },
+        v: v_bar,
+        t_ref: 0.0,
+        g_dt: run.gravity_dt * rb.gravity_scale(),
+        g_half: frame.gravity * (rb.gravity_scale() * frame.half_substep(rb)),
+        expanded: false,
+        dominance: rb.dominance_group(),
+        ..still(key, x1, dt)
+    }
+}
+
+/// The node of body `rb` (key `key`), which the law does not move: where
+/// it is at the end of the step, at its velocity.
+fn still_node(key: Key, rb: &RigidBody, dt: Real) -> Node {
+    let x1 = rb.translation();
+    Node {
+        body: rigid_state(rb),
+        v: rb.linvel(),
+        ..still(key, x1, dt)
+    }
+}
+
+/// Body `rb` as a rigid state where it is now, immovable to the law (the
+/// caller sets the inverse mass of one that moves).
+fn rigid_state(rb: &RigidBody) -> RigidState {
+    RigidState {
+        pose: *rb.position(),
+        linvel: rb.linvel(),
+        angvel: angular(rb),
+        inv_mass: 0.0,
+        inv_inertia: inverse_inertia(rb),
+    }
+}
+
+/// An immovable node for `key` at `x1` (at rest, where it is at the end
+/// of the step), not yet hit nor swept.
+fn still(key: Key, x1: Vector, dt: Real) -> Node {
+    Node {
+        key,
+        motion: Motion::Immovable,
+        x1,
+        body: RigidState {
+            pose: Pose::from_translation(x1),
+            linvel: Vector::ZERO,
+            angvel: zero_angular(),
+            inv_mass: 0.0,
+            inv_inertia: Default::default(),
+        },
+        v: Vector::ZERO,
+        // Where the body is now: the end of the step.
+        t_ref: dt,
+        g_dt: Vector::ZERO,
+        g_half: Vector::ZERO,
+        expanded: true,
+        hit: false,
+        swept: None,
+        sweep_due: None,
+        dominance: 0,
+        turn: zero_angular(),
+        turned: false,
     }
 }

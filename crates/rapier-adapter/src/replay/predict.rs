@@ -1,39 +1,71 @@
 //! When a pair of the replay next meets, and whether the law takes it.
 
-use super::*;
+use std::cmp::Ordering;
+
+use super::context::Run;
+use super::node::{BallOnPath, Hit, Node, Pair};
+use super::state::Replay;
+use crate::cast::{CastOutcome, InContact, Moving, MovingBall, Touch, ball_ball};
+use crate::math::{Real, Vector};
+
+/// Approach speeds below this times the sum of the two bodies' speeds are
+/// resting contacts: rounding level (7.6e-6 in f32, 1.4e-14 in f64).
+const REST_FLOOR: Real = 64.0 * Real::EPSILON;
+
+/// Whether a prediction looks back into the previous step for a pair that
+/// overlaps where it starts.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub(super) enum Rewind {
+    /// A pair first seen overlapping (a candidate, or one a sweep finds at
+    /// the start of the step): its meeting is searched back to `−dt`.
+    Allowed,
+    /// A pair predicted again after an impact: from then on only.
+    Never,
+}
+
+impl Rewind {
+    /// A pair brought in at `from`: rewound only at the start of the step.
+    pub(super) fn at(from: Real) -> Self {
+        if from == 0.0 {
+            Rewind::Allowed
+        } else {
+            Rewind::Never
+        }
+    }
+}
+
+/// A cast of a pair: its touch, with the radius of each collider that is
+/// a ball (the contact's arm on a ball is its radius along the normal).
+struct Cast {
+    touch: Touch,
+    radii: [Option<Real>; 2],
+}
 
 impl Replay {
     /// When pair `i` next meets, from time `from` (within the step), with
-    /// the nodes' current velocities. For a candidate first seen overlapping
-    /// at the start, the meeting is searched back to `−dt` (a rewind).
-    pub(super) fn predict(
-        &mut self,
-        bodies: &RigidBodySet,
-        colliders: &ColliderSet,
-        i: usize,
-        from: Real,
-        dt: Real,
-        allow_rewind: bool,
-    ) {
+    /// the nodes' current velocities; the pair is queued then if the law
+    /// takes the meeting.
+    pub(super) fn predict(&mut self, run: &Run, i: usize, from: Real, rewind: Rewind) {
         let pair = self.pairs[i];
+        let dt = run.dt;
         let end = dt;
-        let Some(hit) = self.cast(bodies, colliders, &pair, from, end - from) else {
+        let Some(found) = self.cast(run, &pair, from, end - from) else {
             self.queue.set(i, None);
             return;
         };
-        let (mut t, mut normal, mut point) = (from + hit.0, hit.1, hit.2);
-        if allow_rewind && hit.0 == 0.0 {
+        let (mut t, mut touch) = (from + found.touch.time, found.touch);
+        if rewind == Rewind::Allowed && found.touch.time == 0.0 {
             // Overlapping at `from`: look for the true meeting in [−dt, 0].
-            if let Some(back) = self.cast(bodies, colliders, &pair, from - dt, dt)
-                && back.0 > 0.0
+            if let Some(back) = self.cast(run, &pair, from - dt, dt)
+                && back.touch.time > 0.0
             {
-                (t, normal, point) = (from - dt + back.0, back.1, back.2);
+                (t, touch) = (from - dt + back.touch.time, back.touch);
             }
         }
-        self.pairs[i].normal = normal;
-        self.pairs[i].point = point;
         let (na, nb) = (&self.nodes[pair.a], &self.nodes[pair.b]);
-        if !self.takes(na, nb, normal, t, dt) {
+        let hit = hit_at(t, touch, found.radii, [na, nb]);
+        self.pairs[i].hit = hit;
+        if !takes(run, na, nb, hit.normal, t) {
             // The law would not act there: not queued at all (two thirds
             // of the meetings a landing pile predicts are overlapping
             // pairs that rapier's paths bring together but that approach
@@ -46,7 +78,7 @@ impl Replay {
         // on the order in which the pairs were found (rapier's collider
         // indices), and the cluster settles in fewer impacts than in the
         // order the pairs were found.
-        let rank = (nb.u - na.u).dot(normal);
+        let rank = (nb.body.linvel - na.body.linvel).dot(hit.normal);
         self.queue.set(i, Some((t, rank)));
     }
 
@@ -78,72 +110,104 @@ impl Replay {
         true
     }
 
-    /// Whether the law takes an impact of nodes `a` and `b` meeting at time
-    /// `t` with world normal `normal` (from `a` towards `b`): they approach
-    /// faster than the rest speed, and faster than rounding level relative
-    /// to their speeds. Slower, the contact is a resting one (rapier's);
-    /// and without gravity the rest speed is 0, where a dissipative law
-    /// (grazing impacts are clamped to e = 1e-3) would otherwise chase an
-    /// inelastic collapse, three touching balls exchanging ever smaller
-    /// impulses forever. Anything not finite is taken, for the law's checks
-    /// to refuse and count.
-    pub(super) fn takes(&self, a: &Node, b: &Node, normal: Vector, t: Real, dt: Real) -> bool {
-        let (va, vb) = (a.law_velocity(t, dt), b.law_velocity(t, dt));
-        let approach = (va - vb).dot(normal);
-        // Not at or below (NaN passes).
-        let above = |x: Real| {
-            !matches!(
-                approach.partial_cmp(&x),
-                Some(Ordering::Less | Ordering::Equal)
-            )
-        };
-        above(self.rest_speed) && above(REST_FLOOR * (a.u.length() + b.u.length()))
-    }
-
-    /// The linear cast ([`crate::cast`]) of pair `pair` from time `from`, over
-    /// `window` seconds: (time after `from`, world normal, world point).
-    pub(super) fn cast(
-        &self,
-        bodies: &RigidBodySet,
-        colliders: &ColliderSet,
-        pair: &Pair,
-        from: Real,
-        window: Real,
-    ) -> Option<(Real, Vector, Vector)> {
+    /// The linear cast ([`crate::cast`]) of pair `pair` from time `from`,
+    /// over `window` seconds (its time after `from`).
+    fn cast(&self, run: &Run, pair: &Pair, from: Real, window: Real) -> Option<Cast> {
         if let Some([b1, b2]) = pair.balls {
-            return cast_balls(
-                &self.nodes[pair.a],
-                b1,
-                &self.nodes[pair.b],
-                b2,
-                from,
-                window,
-            );
+            let (n1, n2) = (&self.nodes[pair.a], &self.nodes[pair.b]);
+            let touch = cast_balls([(n1, b1), (n2, b2)], from, window)?;
+            return Some(Cast {
+                touch,
+                radii: [Some(b1.0), Some(b2.0)],
+            });
         }
-        let pos1 = self.pose(bodies, colliders, pair.a, pair.c1, from)?;
-        let pos2 = self.pose(bodies, colliders, pair.b, pair.c2, from)?;
-        let s1 = colliders.get(pair.c1)?.shape();
-        let s2 = colliders.get(pair.c2)?.shape();
+        let pos1 = self.pose(run, pair.a, pair.c1, from)?;
+        let pos2 = self.pose(run, pair.b, pair.c2, from)?;
+        let s1 = run.colliders.get(pair.c1)?.shape();
+        let s2 = run.colliders.get(pair.c2)?.shape();
         let (va, vb) = (self.nodes[pair.a].v, self.nodes[pair.b].v);
-        crate::cast::cast(&pos1, va, s1, &pos2, vb, s2, window, false)
-            .ok()
-            .flatten()
+        let a = Moving {
+            pose: &pos1,
+            velocity: va,
+            shape: s1,
+        };
+        let b = Moving {
+            pose: &pos2,
+            velocity: vb,
+            shape: s2,
+        };
+        match crate::cast::cast(a, b, window, InContact::MeetsIfClosing) {
+            CastOutcome::Touch(touch) => Some(Cast {
+                touch,
+                radii: [
+                    s1.as_ball().map(|b| b.radius),
+                    s2.as_ball().map(|b| b.radius),
+                ],
+            }),
+            CastOutcome::Miss | CastOutcome::Unsupported => None,
+        }
     }
 }
 
-/// The linear cast ([`crate::cast::ball_ball`]) of two balls riding nodes
-/// `n1` and `n2`, each given as (radius, centre offset from its node's path;
-/// see [`Pair::balls`]), from time `from` over `window` seconds. The one
-/// cast of a pair of balls: `Replay::cast`, and the bulk sweep's test of
+/// The hit of a pair of nodes `nodes` meeting at time `t` as `touch` says
+/// (normal and point), with the contact's arm on each body: a ball's
+/// radius (from `radii`) along the normal, otherwise from where the node
+/// is at `t` to the point.
+fn hit_at(t: Real, touch: Touch, radii: [Option<Real>; 2], nodes: [&Node; 2]) -> Hit {
+    let normal = touch.normal;
+    let arm = |side: usize, towards: Real| -> Vector {
+        match radii[side] {
+            // A ball centred on its body: exactly along the normal.
+            Some(radius) => normal * (towards * radius),
+            None => touch.point - nodes[side].at(t),
+        }
+    };
+    Hit {
+        time: t,
+        point: touch.point,
+        normal,
+        arms: [arm(0, 1.0), arm(1, -1.0)],
+    }
+}
+
+/// Whether the law takes an impact of nodes `a` and `b` meeting at time
+/// `t` with world normal `normal` (from `a` towards `b`): they approach
+/// faster than the rest speed, and faster than rounding level relative
+/// to their speeds. Slower, the contact is a resting one (rapier's);
+/// and without gravity the rest speed is 0, where a dissipative law
+/// (grazing impacts are clamped to e = 1e-3) would otherwise chase an
+/// inelastic collapse, three touching balls exchanging ever smaller
+/// impulses forever. Anything not finite is taken, for the law's checks
+/// to refuse and count.
+fn takes(run: &Run, a: &Node, b: &Node, normal: Vector, t: Real) -> bool {
+    let (va, vb) = (a.law_velocity(t, run.dt), b.law_velocity(t, run.dt));
+    let approach = (va - vb).dot(normal);
+    // Not at or below (NaN passes).
+    let above = |x: Real| {
+        !matches!(
+            approach.partial_cmp(&x),
+            Some(Ordering::Less | Ordering::Equal)
+        )
+    };
+    let speeds = a.body.linvel.length() + b.body.linvel.length();
+    above(run.rest_speed) && above(REST_FLOOR * speeds)
+}
+
+/// The linear cast ([`crate::cast::ball_ball`]) of two balls riding nodes,
+/// each given with its (radius, centre offset from its node's path; see
+/// [`Pair::balls`]), from time `from` over `window` seconds. The one cast
+/// of a pair of balls: `Replay::predict`, and the bulk sweep's test of
 /// whether a pair may be deferred, must agree.
 pub(super) fn cast_balls(
-    n1: &Node,
-    (r1, o1): BallOnPath,
-    n2: &Node,
-    (r2, o2): BallOnPath,
+    [(n1, (r1, o1)), (n2, (r2, o2))]: [(&Node, BallOnPath); 2],
     from: Real,
     window: Real,
-) -> Option<crate::cast::Hit> {
-    let (c1, c2) = (n1.at(from) + o1, n2.at(from) + o2);
-    crate::cast::ball_ball(c1, n1.v, r1, c2, n2.v, r2, window, false)
+) -> Option<Touch> {
+    let ball = |n: &Node, radius: Real, offset: Vector| MovingBall {
+        centre: n.at(from) + offset,
+        velocity: n.v,
+        radius,
+    };
+    let (a, b) = (ball(n1, r1, o1), ball(n2, r2, o2));
+    ball_ball(a, b, window, InContact::MeetsIfClosing)
 }

@@ -31,7 +31,7 @@ pub(super) struct PairQueue {
 }
 
 /// A queued meeting: time, rank among meetings at the same time (lower
-/// first: see [`Replay::predict`]), pair.
+/// first: see `Replay::predict`), pair.
 type Entry = (Real, Real, u32);
 
 impl PairQueue {

@@ -2,9 +2,17 @@
 //! found along its path through rapier's broad phase (one query at a time,
 //! or in bulk through a grid of the swept boxes).
 
+use super::context::Run;
+use super::node::{BallOnPath, Sweeper};
 use super::nodes::rest_pose;
-use super::predict::cast_balls;
-use super::*;
+use super::predict::{Rewind, cast_balls};
+use super::state::Replay;
+use crate::leaves::for_each_leaf;
+use crate::math::Real;
+use crate::rapier::parry::partitioning::Bvh;
+use crate::rapier::parry::query::DefaultQueryDispatcher;
+use crate::rapier::prelude::*;
+use crate::sweep_grid::SweepGrid;
 
 /// The bulk sweep replaces one broad-phase query per swept collider when at
 /// least this many colliders sweep, and at least one in `BULK_SHARE` of all
@@ -13,43 +21,26 @@ use super::*;
 const BULK_MIN: usize = 64;
 const BULK_SHARE: usize = 8;
 
-/// Scratch of the bulk sweep's passes on rayon's pool (`parallel`).
-#[cfg(feature = "parallel")]
-#[derive(Default)]
-pub(super) struct ParScratch {
-    /// The grid's pairs of sweepers, each with whether it may meet on the
-    /// present paths, in the serial join's order.
-    joined: Vec<(u32, u32, bool)>,
-    /// rapier's leaves that are not sweepers: (collider index, box).
-    leaves: Vec<(u32, Aabb)>,
-}
-
 impl Replay {
     /// Bodies that move more than their own half-size this step can cross a
     /// partner without a contact ever being seen (rapier's CCD does not
     /// sweep dynamic against dynamic): query the broad phase along their
     /// path over the step and bring every governed collider it meets into
     /// the replay.
-    pub(super) fn sweep_fast_bodies(
-        &mut self,
-        input: &ReplayInput,
-        bodies: &RigidBodySet,
-        colliders: &ColliderSet,
-        broad_phase: &BroadPhaseBvh,
-        dt: Real,
-    ) {
+    pub(super) fn sweep_fast_bodies(&mut self, run: &Run) {
+        let input = run.input;
         let mut sweepers = std::mem::take(&mut self.sweepers);
         sweepers.clear();
         for j in 0..input.flagged.len() {
             let ch = input.flagged[j];
-            let Some(handle) = colliders.get(ch).and_then(|co| co.parent()) else {
+            let Some(handle) = run.colliders.get(ch).and_then(|co| co.parent()) else {
                 continue;
             };
             if input.starts.of(handle).is_none() {
                 continue;
             }
-            let n = self.node(input, bodies, ch, Some(handle), dt);
-            if let Some((aabb, ball)) = self.swept_aabb(bodies, colliders, ch, n, 0.0, dt, None) {
+            let n = self.node(run, ch, Some(handle));
+            if let Some((aabb, ball)) = self.swept_aabb(run, ch, n, 0.0, None) {
                 sweepers.push(Sweeper {
                     collider: ch,
                     node: n,
@@ -61,9 +52,8 @@ impl Replay {
         }
         let bulk = !self.per_body_sweep
             && sweepers.len() >= BULK_MIN
-            && sweepers.len() * BULK_SHARE >= colliders.len();
-        let in_bulk =
-            bulk && self.sweep_in_bulk(input, bodies, colliders, broad_phase, &sweepers, dt);
+            && sweepers.len() * BULK_SHARE >= run.colliders.len();
+        let in_bulk = bulk && self.sweep_in_bulk(run, &sweepers);
         #[cfg(test)]
         {
             self.bulk_sweeps += u64::from(in_bulk);
@@ -73,7 +63,7 @@ impl Replay {
                 collider: ch, aabb, ..
             } in &sweepers
             {
-                self.sweep_query(input, bodies, colliders, broad_phase, ch, aabb, 0.0, dt);
+                self.sweep_query(run, ch, aabb, 0.0);
             }
         }
         self.sweepers = sweepers;
@@ -86,23 +76,21 @@ impl Replay {
     /// radius and centre offset if it is a ball (as [`Replay::ball`]).
     /// `known` is that radius and offset when the caller has them (a pair
     /// of balls keeps them): then neither the collider nor its body is read.
-    #[allow(clippy::too_many_arguments)]
     pub(super) fn swept_aabb(
         &self,
-        bodies: &RigidBodySet,
-        colliders: &ColliderSet,
+        run: &Run,
         ch: ColliderHandle,
         n: usize,
         from: Real,
-        dt: Real,
         known: Option<BallOnPath>,
     ) -> Option<(Aabb, Option<BallOnPath>)> {
+        let dt = run.dt;
         let node = &self.nodes[n];
         let moved = node.v * (dt - from);
-        let reach = if node.v.dot(self.gravity_dt) > 0.0 {
-            self.fall_reach
+        let reach = if node.v.dot(run.gravity_dt) > 0.0 {
+            run.reach.fall
         } else {
-            self.sweep_reach
+            run.reach.sweep
         };
         let far_enough = |half: Real| moved.length() > half.min(reach);
         let (swept, ball) = match known {
@@ -113,14 +101,14 @@ impl Replay {
                 (node.swept_ball(ball, from, dt), known)
             }
             None => {
-                let co = colliders.get(ch)?;
+                let co = run.colliders.get(ch)?;
                 let shape = co.shape();
                 let ball = shape.as_ball();
                 let half = crate::body_view::half_size(co);
                 if !far_enough(half) {
                     return None;
                 }
-                let rest = rest_pose(bodies, co);
+                let rest = rest_pose(run.bodies, co);
                 match ball {
                     Some(ball) => {
                         let ball = (ball.radius, rest.translation - node.x1);
@@ -143,20 +131,13 @@ impl Replay {
     /// than half its size, or more than `sweep_reach`), and bring every
     /// governed collider the sweep meets into the replay, predicted from
     /// `from`.
-    #[allow(clippy::too_many_arguments)]
     pub(super) fn sweep(
         &mut self,
-        input: &ReplayInput,
-        bodies: &RigidBodySet,
-        colliders: &ColliderSet,
-        broad_phase: &BroadPhaseBvh,
-        ch: ColliderHandle,
-        n: usize,
-        ball: Option<BallOnPath>,
+        run: &Run,
+        (n, ch, ball): (usize, ColliderHandle, Option<BallOnPath>),
         from: Real,
-        dt: Real,
     ) {
-        let Some((aabb, _)) = self.swept_aabb(bodies, colliders, ch, n, from, dt, ball) else {
+        let Some((aabb, _)) = self.swept_aabb(run, ch, n, from, ball) else {
             return;
         };
         if let Some((c, covered)) = self.nodes[n].swept
@@ -169,28 +150,20 @@ impl Replay {
             return;
         }
         self.nodes[n].swept = Some((ch, aabb));
-        self.sweep_query(input, bodies, colliders, broad_phase, ch, aabb, from, dt);
+        self.sweep_query(run, ch, aabb, from);
     }
 
     /// The colliders of rapier's broad phase whose box meets `swept`, as
     /// rapier's tree query finds them (it can miss one under an inner node
     /// not yet refitted: see [`Replay::sweep_in_bulk`]), met by collider
     /// `ch` from time `from`.
-    #[allow(clippy::too_many_arguments)]
-    pub(super) fn sweep_query(
-        &mut self,
-        input: &ReplayInput,
-        bodies: &RigidBodySet,
-        colliders: &ColliderSet,
-        broad_phase: &BroadPhaseBvh,
-        ch: ColliderHandle,
-        swept: Aabb,
-        from: Real,
-        dt: Real,
-    ) {
-        let dispatcher = crate::rapier::parry::query::DefaultQueryDispatcher;
-        let query =
-            broad_phase.as_query_pipeline(&dispatcher, bodies, colliders, QueryFilter::default());
+    fn sweep_query(&mut self, run: &Run, ch: ColliderHandle, swept: Aabb, from: Real) {
+        let query = run.broad_phase.as_query_pipeline(
+            &DefaultQueryDispatcher,
+            run.bodies,
+            run.colliders,
+            QueryFilter::default(),
+        );
         // In collider order (as the bulk sweep takes them), not the tree's.
         let mut met = std::mem::take(&mut self.met);
         met.clear();
@@ -205,8 +178,8 @@ impl Replay {
         }
         met.sort_unstable();
         for &index in &met {
-            if let Some((_, other)) = colliders.get_unknown_gen(index) {
-                self.meet(input, bodies, colliders, ch, other, from, dt);
+            if let Some((_, other)) = run.colliders.get_unknown_gen(index) {
+                self.meet(run, ch, other, from);
             }
         }
         self.met = met;
@@ -222,18 +195,15 @@ impl Replay {
     /// caller then sweeps them one query each). One pass over the
     /// colliders replaces a tree descent per swept collider (in a gas every
     /// ball is swept, and a descent each costs more than the grid).
-    pub(super) fn sweep_in_bulk(
-        &mut self,
-        input: &ReplayInput,
-        bodies: &RigidBodySet,
-        colliders: &ColliderSet,
-        broad_phase: &BroadPhaseBvh,
-        sweepers: &[Sweeper],
-        dt: Real,
-    ) -> bool {
-        let dispatcher = crate::rapier::parry::query::DefaultQueryDispatcher;
-        let tree = broad_phase
-            .as_query_pipeline(&dispatcher, bodies, colliders, QueryFilter::default())
+    fn sweep_in_bulk(&mut self, run: &Run, sweepers: &[Sweeper]) -> bool {
+        let tree = run
+            .broad_phase
+            .as_query_pipeline(
+                &DefaultQueryDispatcher,
+                run.bodies,
+                run.colliders,
+                QueryFilter::default(),
+            )
             .bvh;
         let mut grid = std::mem::take(&mut self.grid);
         if !grid.build(sweepers.iter().map(|x| x.aabb)) {
@@ -253,20 +223,53 @@ impl Replay {
             }
             sweeping[index] = self.stamp;
         }
-        // A pair of balls that does not meet on the paths the bodies have
-        // now is deferred: its prediction would be "never",
-        // and it matters only once an impact bends either path (most
-        // pairs of a gas: their boxes meet, their balls do not).
         let mut deferred = std::mem::take(&mut self.deferred);
         deferred.clear();
+        self.join_sweepers(run, &grid, sweepers, &mut found, &mut deferred);
+        if !deferred.is_empty() {
+            self.group_deferred(&deferred, sweepers);
+        }
+        self.deferred = deferred;
+        self.join_leaves(tree, &grid, &sweeping, &mut found);
+        self.grid = grid;
+        self.sweeping = sweeping;
+        // Sweeper by sweeper, each in collider order, as one query each
+        // would take them.
+        found.sort_unstable();
+        for &(s, index) in &found {
+            let Some((_, other)) = run.colliders.get_unknown_gen(index) else {
+                continue;
+            };
+            let ch = sweepers[s as usize].collider;
+            self.meet(run, ch, other, 0.0);
+        }
+        self.found = found;
+        true
+    }
+
+    /// The pairs of sweepers whose boxes meet in `grid`: into `found` as
+    /// (sweeper, collider index) when they may meet on their present paths,
+    /// into `deferred` otherwise. A pair of balls that does not meet on the
+    /// paths the bodies have now is deferred: its prediction would be
+    /// "never", and it matters only once an impact bends either path (most
+    /// pairs of a gas: their boxes meet, their balls do not).
+    fn join_sweepers(
+        &mut self,
+        run: &Run,
+        grid: &SweepGrid,
+        sweepers: &[Sweeper],
+        found: &mut Vec<(u32, u32)>,
+        deferred: &mut Vec<(u32, u32)>,
+    ) {
         let nodes = &self.nodes;
+        let dt = run.dt;
         // Whether sweepers `s` and `t` may meet on their present paths.
         let may_meet = |s: u32, t: u32| {
             let (a, b) = (&sweepers[s as usize], &sweepers[t as usize]);
             match (a.ball, b.ball) {
                 // The first cast `Replay::predict` would make of the pair.
                 (Some(b1), Some(b2)) => {
-                    cast_balls(&nodes[a.node], b1, &nodes[b.node], b2, 0.0, dt).is_some()
+                    cast_balls([(&nodes[a.node], b1), (&nodes[b.node], b2)], 0.0, dt).is_some()
                 }
                 _ => true,
             }
@@ -291,32 +294,41 @@ impl Replay {
             }
             self.par.joined = joined;
         }
-        if !deferred.is_empty() {
-            self.group_deferred(&deferred, sweepers);
-        }
-        self.deferred = deferred;
-        // Every other leaf of rapier's tree (walls, slow bodies): a leaf's
-        // box looks up the cells whose boxes may meet it. Every leaf, not
-        // only those under inner nodes that meet a swept box: between steps
-        // some inner boxes do not enclose the leaves below them (rapier
-        // refits the ancestors of moved leaves lazily), so a query
-        // descending from the root can miss a collider whose own box meets
-        // the query's (it happens in a falling pile).
+    }
+
+    /// Every other leaf of rapier's tree (walls, slow bodies; not the
+    /// colliders `sweeping` stamps this run) whose box meets a cell of
+    /// `grid`: into `found` as (sweeper, collider index). A leaf's box
+    /// looks up the cells whose boxes may meet it. Every leaf, not only
+    /// those under inner nodes that meet a swept box: between steps some
+    /// inner boxes do not enclose the leaves below them (rapier refits the
+    /// ancestors of moved leaves lazily), so a query descending from the
+    /// root can miss a collider whose own box meets the query's (it
+    /// happens in a falling pile).
+    fn join_leaves(
+        &mut self,
+        tree: &Bvh,
+        grid: &SweepGrid,
+        sweeping: &[u32],
+        found: &mut Vec<(u32, u32)>,
+    ) {
+        let stamp = self.stamp;
         #[cfg(not(feature = "parallel"))]
         for_each_leaf(tree, |index, node| {
-            if sweeping.get(index as usize) != Some(&self.stamp) {
+            if sweeping.get(index as usize) != Some(&stamp) {
                 grid.overlaps(&node.aabb(), |s| found.push((s, index)));
             }
         });
         #[cfg(feature = "parallel")]
         {
             // The leaves listed, then looked up on rayon's pool (`found`
-            // is sorted below: the order it is filled in does not matter).
+            // is sorted by the caller: the order it is filled in does not
+            // matter).
             use rayon::prelude::*;
             let mut leaves = std::mem::take(&mut self.par.leaves);
             leaves.clear();
             for_each_leaf(tree, |index, node| {
-                if sweeping.get(index as usize) != Some(&self.stamp) {
+                if sweeping.get(index as usize) != Some(&stamp) {
                     leaves.push((index, node.aabb()));
                 }
             });
@@ -339,20 +351,6 @@ impl Replay {
             }
             self.par.leaves = leaves;
         }
-        self.grid = grid;
-        self.sweeping = sweeping;
-        // Sweeper by sweeper, each in collider order, as one query each
-        // would take them.
-        found.sort_unstable();
-        for &(s, index) in &found {
-            let Some((_, other)) = colliders.get_unknown_gen(index) else {
-                continue;
-            };
-            let ch = sweepers[s as usize].collider;
-            self.meet(input, bodies, colliders, ch, other, 0.0, dt);
-        }
-        self.found = found;
-        true
     }
 
     /// Group the deferred pairs by node (`deferred_range`, `deferred_by`).
@@ -385,16 +383,7 @@ impl Replay {
 
     /// Node `n`'s path is about to bend: bring its deferred pairs into the
     /// replay (once), to be predicted with the rest of its pairs.
-    #[allow(clippy::too_many_arguments)]
-    pub(super) fn bring_deferred(
-        &mut self,
-        input: &ReplayInput,
-        bodies: &RigidBodySet,
-        colliders: &ColliderSet,
-        n: usize,
-        from: Real,
-        dt: Real,
-    ) {
+    pub(super) fn bring_deferred(&mut self, run: &Run, n: usize, from: Real) {
         let Some(&(start, end)) = self.deferred_range.get(n) else {
             return;
         };
@@ -405,7 +394,18 @@ impl Replay {
                 self.sweepers[s as usize].collider,
                 self.sweepers[t as usize].collider,
             );
-            self.meet(input, bodies, colliders, c1, c2, from, dt);
+            self.meet(run, c1, c2, from);
+        }
+    }
+
+    /// Collider `ch`'s sweep reached collider `other`: if the law governs the
+    /// pair, bring it into the replay and predict it from `from`.
+    fn meet(&mut self, run: &Run, ch: ColliderHandle, other: ColliderHandle, from: Real) {
+        if other == ch || self.has_pair(ch, other) || !run.governs(ch, other) {
+            return;
+        }
+        if let Some(i) = self.add_pair(run, ch, other) {
+            self.predict(run, i, from, Rewind::at(from));
         }
     }
 }

@@ -1,28 +1,31 @@
-//! Snapshots of a [`Kimpact`]: the user's state (law, mode, configuration,
-//! marks and materials), the totals, and what the resolver carries from one
-//! step to the next, in a versioned form of their own rather than the
-//! layout of the resolver's internals.
+//! Snapshots of a [`crate::Kimpact`]: the user's state (law, mode,
+//! configuration, marks and materials), the totals, and what the resolver
+//! carries from one step to the next, in a versioned form of their own
+//! rather than the layout of the resolver's internals. The resolver saves
+//! its state into one ([`Snapshot::save`]) and restores it from one
+//! ([`Snapshot::restore`]); this module does not know the resolver.
 
 use kimpact::{Law, LawError};
 
-use super::Kimpact;
 use crate::config::{ResolverConfig, ResolverConfigError};
 use crate::events::Stats;
 use crate::marks::Marks;
 use crate::material::Material;
 use crate::math::Real;
 use crate::mode::Mode;
-use crate::prepare::{Carried, Prepare};
+use crate::prepare::Carried;
 use crate::rapier::prelude::{CoefficientCombineRule, ColliderHandle, ColliderSet};
 
 #[cfg(feature = "serde-serialize")]
 mod serde_form;
 
-/// A [`Kimpact`] as saved, from [`Kimpact::snapshot`]; restored by
-/// [`Kimpact::from_snapshot`]. Taken between steps, with rapier's world of
+/// A [`Kimpact`](crate::Kimpact) as saved, from
+/// [`Kimpact::snapshot`](crate::Kimpact::snapshot); restored by
+/// [`Kimpact::from_snapshot`](crate::Kimpact::from_snapshot). Taken between steps, with rapier's world of
 /// the same moment, it continues bit for bit (the basis of rollback
 /// netcode): it holds the law, the mode, the configuration, the marked
-/// colliders with their materials and the totals ([`Kimpact::stats`]),
+/// colliders with their materials and the totals
+/// ([`Kimpact::stats`](crate::Kimpact::stats)),
 /// and what the next step needs of the last one (the colliders whose hook
 /// flag kimpact set in the collider set, the bodies it must look at, when
 /// the calm-neighbourhoods test is tried next). The last step's events
@@ -31,7 +34,8 @@ mod serde_form;
 /// With the `serde-serialize` feature a snapshot is serde data: its
 /// `format` ([`Snapshot::FORMAT`] for this build), then its `state`. A
 /// snapshot of another format is read as its format alone and refused by
-/// [`Kimpact::from_snapshot`] ([`SnapshotError::Format`]); in a data format
+/// [`Kimpact::from_snapshot`](crate::Kimpact::from_snapshot)
+/// ([`SnapshotError::Format`]); in a data format
 /// that does not name its fields (bincode) it is refused when read, with
 /// the same error's message.
 ///
@@ -146,7 +150,8 @@ impl Snapshot {
     }
 }
 
-/// A snapshot [`Kimpact::from_snapshot`] refuses.
+/// A snapshot [`Kimpact::from_snapshot`](crate::Kimpact::from_snapshot)
+/// refuses.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum SnapshotError {
     /// The snapshot is of format `found`, this build reads `expected`
@@ -172,11 +177,30 @@ pub enum SnapshotError {
     },
 }
 
-impl Kimpact {
-    /// This resolver's [`Snapshot`]; take it between steps (after
-    /// [`Kimpact::after_step`], or [`Kimpact::step`]).
-    pub fn snapshot(&self) -> Snapshot {
-        let marks = self
+/// The state a resolver saves in a snapshot and restores from one.
+pub(crate) struct Saved {
+    pub law: Law<Real>,
+    pub mode: Mode,
+    pub config: ResolverConfig,
+    pub marks: Marks,
+    pub stats: Stats,
+    pub carried: Carried,
+}
+
+/// What a resolver saves in a snapshot, borrowed from it.
+pub(crate) struct Saving<'a> {
+    pub law: &'a Law<Real>,
+    pub mode: Mode,
+    pub config: &'a ResolverConfig,
+    pub marks: &'a Marks,
+    pub stats: Stats,
+    pub carried: Carried,
+}
+
+impl Snapshot {
+    /// The snapshot of `saved`.
+    pub(crate) fn save(saved: Saving) -> Snapshot {
+        let marks = saved
             .marks
             .iter()
             .map(|(collider, centred_ball, material)| Mark {
@@ -188,31 +212,28 @@ impl Kimpact {
         Snapshot {
             format: Snapshot::FORMAT,
             state: Some(State {
-                law: self.law,
-                mode: self.mode,
-                config: self.config,
+                law: *saved.law,
+                mode: saved.mode,
+                config: *saved.config,
                 marks,
-                stats: self.log.stats,
-                carried: self.prepare.carried(),
+                stats: saved.stats,
+                carried: saved.carried,
             }),
         }
     }
 
-    /// The resolver `snapshot` saved, to step on with rapier's world of the
-    /// same moment, whose collider set is `colliders`. A marked collider
-    /// that is no longer in `colliders` (removed before the snapshot was
-    /// taken) is not marked again: its handle can never be valid again.
+    /// The state this snapshot saved, for rapier's world of the same moment,
+    /// whose collider set is `colliders`. A marked collider that is no
+    /// longer in `colliders` (removed before the snapshot was taken) is not
+    /// marked again: its handle can never be valid again.
     ///
     /// # Errors
     /// [`SnapshotError::Format`] for a snapshot of another format than
     /// [`Snapshot::FORMAT`]; [`SnapshotError::Config`] or
     /// [`SnapshotError::Material`] naming an invalid field of one read from
     /// serde data.
-    pub fn from_snapshot(
-        snapshot: Snapshot,
-        colliders: &ColliderSet,
-    ) -> Result<Self, SnapshotError> {
-        let Snapshot { format, state } = snapshot;
+    pub(crate) fn restore(self, colliders: &ColliderSet) -> Result<Saved, SnapshotError> {
+        let Snapshot { format, state } = self;
         let state = match state {
             Some(state) if format == Snapshot::FORMAT => state,
             _ => {
@@ -230,16 +251,21 @@ impl Kimpact {
             stats,
             mut carried,
         } = state;
-        let mut kimpact = Self::with_config(law, mode, config)?;
-        kimpact.marks = restore_marks(&marks, colliders)?;
-        // Per-index state is sized by live handles only.
+        config.validate()?;
+        let marks = restore_marks(&marks, colliders)?;
+        // Per-handle state is kept for live handles only.
         carried.hooked.retain(|&ch| colliders.contains(ch));
         carried
             .marked_since_step
             .retain(|&ch| colliders.contains(ch));
-        kimpact.prepare = Prepare::from_carried(carried);
-        kimpact.log.stats = stats;
-        Ok(kimpact)
+        Ok(Saved {
+            law,
+            mode,
+            config,
+            marks,
+            stats,
+            carried,
+        })
     }
 }
 
