@@ -4,6 +4,7 @@
 
 use kimpact::{Body, LawError, Mass};
 
+use crate::handle_map::HandleMap;
 use crate::math::{DIM, Real, Vector, to_law};
 use crate::rapier::prelude::*;
 
@@ -155,42 +156,22 @@ pub(crate) fn path_velocity(rb: &RigidBody, gravity_dt: Vector) -> Vector {
     }
 }
 
-/// The start of a step for one body (exact mode).
-#[derive(Copy, Clone, Debug, Default)]
-struct Start {
-    /// Body generation + 1 (0: nothing stored).
-    tag: u32,
-    translation: Vector,
-}
-
-/// Where bodies started the step, by body index (exact mode): what the
+/// Where bodies started the step, per body (every law mode): what the
 /// replay after the step needs to rebuild each body's straight path.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Starts {
-    slots: Vec<Start>,
+    translations: HandleMap<RigidBodyHandle, Vector>,
 }
 
 impl Starts {
     /// Record where body `handle` starts the step.
     #[inline]
     pub(crate) fn store(&mut self, handle: RigidBodyHandle, translation: Vector) {
-        let (index, generation) = handle.into_raw_parts();
-        let index = index as usize;
-        if self.slots.len() <= index {
-            self.slots.resize(index + 1, Start::default());
-        }
-        self.slots[index] = Start {
-            tag: generation.wrapping_add(1),
-            translation,
-        };
+        self.translations.insert(handle, translation);
     }
 
     /// Where body `handle` started this step, if stored.
     pub(crate) fn of(&self, handle: RigidBodyHandle) -> Option<Vector> {
-        let (index, generation) = handle.into_raw_parts();
-        self.slots
-            .get(index as usize)
-            .filter(|s| s.tag == generation.wrapping_add(1))
-            .map(|s| s.translation)
+        self.translations.get(handle).copied()
     }
 }

@@ -51,6 +51,7 @@
 use std::cmp::Ordering;
 
 use crate::body_view::{path_velocity, translations_locked};
+use crate::handle_map::HandleMap;
 use crate::leaves::for_each_leaf;
 use crate::marks::Marks;
 use crate::math::{Real, Vector};
@@ -146,9 +147,9 @@ pub(crate) struct Calm {
 
 #[derive(Default)]
 struct Scratch {
-    /// Per collider index: the epoch at which it was a member or belonged
-    /// to an awake body.
-    stamp: Vec<u32>,
+    /// Per collider: the epoch at which it was a member or belonged to an
+    /// awake body.
+    stamp: HandleMap<ColliderHandle, u32>,
     epoch: u32,
     members: Vec<Member>,
     taken: Vec<Taken>,
@@ -250,11 +251,7 @@ impl Calm {
         let com = rb.center_of_mass();
         let body = s.taken.len() as u32;
         for &ch in rb.colliders() {
-            let index = ch.into_raw_parts().0 as usize;
-            if s.stamp.len() <= index {
-                s.stamp.resize(index + 1, 0);
-            }
-            s.stamp[index] = s.epoch;
+            s.stamp.insert(ch, s.epoch);
             if !(f.marks.contains(ch) || (!dynamic && f.fixed_partners)) {
                 continue;
             }
@@ -339,7 +336,8 @@ impl Calm {
             let (stamp, epoch) = (&s.stamp, s.epoch);
             let one_by_one = &mut s.one_by_one;
             for_each_leaf(tree, |index, node| {
-                if stamp.get(index as usize) == Some(&epoch) || !region.intersects(&node.aabb()) {
+                // (The tree's leaves hold live colliders: the index is one's.)
+                if stamp.get_by_index(index) == Some(&epoch) || !region.intersects(&node.aabb()) {
                     return;
                 }
                 if let Some(other) = partner(f, index) {

@@ -9,9 +9,9 @@ use crate::candidates::{Candidate, Candidates};
 use crate::cast::{CastOutcome, InContact, Moving};
 use crate::events::AppliedBy;
 use crate::frame::StepFrame;
-use crate::marks::{Marks, Partners};
+use crate::marks::Marks;
 use crate::math::{Real, Vector};
-use crate::mode::Mode;
+use crate::policy::{Policy, Response};
 use crate::prepare::Prepare;
 use crate::rapier::prelude::*;
 use crate::rigid_view::point_velocity;
@@ -25,30 +25,27 @@ use crate::rigid_view::point_velocity;
 /// `parallel` feature.
 pub struct StepHooks<'a> {
     pub(crate) law: &'a Law<Real>,
-    /// `None` outside a prepared step: then only the user's hooks run.
-    pub(crate) frame: Option<StepFrame>,
-    pub(crate) mode: Mode,
+    pub(crate) frame: StepFrame,
+    /// What the step's mode does.
+    pub(crate) policy: Policy,
     pub(crate) marks: &'a Marks,
     /// The step's hook flags: which colliders kimpact flagged (not the
-    /// user, [`Prepare::ours`]) and which of them touch something
+    /// user, [`Prepare::is_ours`]) and which of them touch something
     /// ([`Prepare::is_crowded`]).
     pub(crate) prepare: &'a Prepare,
-    /// Which pairs of a marked collider the law governs.
-    pub(crate) partners: Partners,
     pub(crate) candidates: &'a Candidates,
     /// Pairs cut off by the runtime guard this step.
     pub(crate) guarded: &'a AtomicU64,
     pub(crate) user: &'a dyn PhysicsHooks,
 }
 
-/// The step's frame and mode (the user's hooks are not `Debug`).
+/// The step's frame and policy (the user's hooks are not `Debug`).
 impl std::fmt::Debug for StepHooks<'_> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("StepHooks")
             .field("law", self.law)
             .field("frame", &self.frame)
-            .field("mode", &self.mode)
-            .field("partners", &self.partners)
+            .field("policy", &self.policy)
             .finish_non_exhaustive()
     }
 }
@@ -65,16 +62,10 @@ const UNBOUNDED_FRICTION: Real = 1e6;
 
 impl StepHooks<'_> {
     fn user_flagged(&self, colliders: &ColliderSet, c: ColliderHandle) -> bool {
-        let (index, _) = c.into_raw_parts();
         colliders.get(c).is_some_and(|co| {
             co.active_hooks()
                 .contains(ActiveHooks::MODIFY_SOLVER_CONTACTS)
-        }) && !self
-            .prepare
-            .ours
-            .get(index as usize)
-            .copied()
-            .unwrap_or(false)
+        }) && !self.prepare.is_ours(c)
     }
 }
 
@@ -110,24 +101,25 @@ impl StepHooks<'_> {
     /// kimpact's response to one pair the hook sees: the law's, rapier's
     /// unbounced, or none (the replay's, or a graze).
     fn respond(&self, context: &mut ContactModificationContext) {
+        if !self.policy.acts() {
+            return;
+        }
         let (c1, c2) = (context.collider1, context.collider2);
-        let Some(frame) = self.frame else {
-            return;
-        };
-        if self.mode == Mode::Native {
-            return;
-        }
         let (colliders, bodies) = (context.colliders, context.bodies);
-        if !self.marks.governs(self.partners, colliders, bodies, c1, c2) {
-            if self
-                .marks
-                .governs_rigid(self.partners, colliders, bodies, c1, c2)
-            {
-                self.respond_rigid(context, &frame);
-            }
-            return;
+        let partners = self.policy.partners;
+        if self.marks.governs(partners, colliders, bodies, c1, c2) {
+            self.respond_point(context);
+        } else if self.marks.governs_rigid(partners, colliders, bodies, c1, c2) {
+            self.respond_rigid(context);
         }
-        let (dt, rest_speed, margin) = (frame.dt, frame.rest_speed, frame.gravity_speed);
+    }
+
+    /// A pair the law governs as points (two balls centred on their
+    /// bodies, or one and an immovable partner): handed to the replay,
+    /// cleared as a graze, or bounced by rapier's solver with the law's
+    /// restitution, as the step's [`Policy`] says.
+    fn respond_point(&self, context: &mut ContactModificationContext) {
+        let frame = self.frame;
         let pair = PairIds::of(context);
         let Some((b1, b2)) = self.law_bodies(context) else {
             return;
@@ -135,93 +127,106 @@ impl StepHooks<'_> {
         let Some(rigid) = context.rigid_mut() else {
             return;
         };
-        let n = *rigid.normal;
-        let w = b2.velocity - b1.velocity;
-        let approach = -w.dot(n);
-        // Newness as rapier's solver decides it: the contact carried no
-        // impulse at the previous step.
-        let fresh = rigid
-            .solver_contacts
-            .iter()
-            .all(|c| c.contact_id[0] & NEW_CONTACT_BIT != 0);
-        let (dist, point) = rigid
-            .solver_contacts
-            .iter()
-            .map(|c| (c.dist, (c.anchor1 + c.anchor2) * 0.5))
-            .fold(
-                (Real::MAX, Vector::ZERO),
-                |acc, x| if x.0 < acc.0 { x } else { acc },
-            );
-        // rapier's speculative contact is linear: it takes a pair whose gap
-        // closes by more than the gap along the normal as meeting, even when
-        // the bodies' real paths pass each other (a graze), and bounces it
-        // ("ghost" collisions). Such a pair keeps no contact
-        // this step: it is apart now and does not meet on its path. Unless
-        // either collider touches something else: rapier's solver may then
-        // push its body off that path (a ball in a landing pile, bounced up
-        // by the balls under it, into one falling onto it), and only the
-        // contact keeps the two apart.
-        let reach = (approach + margin) * dt;
-        // The replay's pairs: every pair in impulse and exact mode; in
-        // restitution mode those of a body too fast for rapier's contacts
-        // (swept by the replay after the step).
-        let by_replay = match self.mode {
-            Mode::Native => false,
-            Mode::Restitution => self.prepare.is_swept(c1) || self.prepare.is_swept(c2),
-            Mode::Impulse | Mode::Exact => true,
-        };
+        let seen = Seen::of(rigid);
+        let approach = -(b2.velocity - b1.velocity).dot(seen.normal);
+        // The pair's contact reaches this far within the step.
+        let reach = (approach + frame.gravity_speed) * frame.dt;
         let candidate = |applied_by| Candidate {
-            collider1: c1,
-            collider2: c2,
-            normal: n,
-            point,
-            dist,
+            collider1: pair.c1,
+            collider2: pair.c2,
+            normal: seen.normal,
+            point: seen.point,
+            dist: seen.dist,
             start1: b1,
             start2: b2,
             applied_by,
             rigid: None,
         };
-        if !by_replay
-            && self.mode == Mode::Restitution
-            && approach > rest_speed
-            && dist > 0.0
-            && dist <= reach
-            && !self.prepare.is_crowded(c1)
-            && !self.prepare.is_crowded(c2)
-            && !self.meets(&frame, colliders, bodies, &pair)
-        {
-            rigid.solver_contacts.clear();
-            return;
-        }
-        // Not an impact (resting, sliding, separating): hand it to rapier
-        // with no bounce. A NaN approach fails the comparison and lands
-        // here too.
-        if !(approach > rest_speed && approach.is_finite()) {
-            *rigid.restitution = 0.0;
-            return;
-        }
-        if by_replay {
-            if fresh {
-                // rapier leaves the pair alone this step; kimpact resolves
-                // it after the step.
+        let by_replay = match self.policy.response {
+            Response::Replay => true,
+            // Those of a body too fast for rapier's contacts (swept by the
+            // replay after the step).
+            _ => self.prepare.is_swept(pair.c1) || self.prepare.is_swept(pair.c2),
+        };
+        if !by_replay && self.is_graze(context, &pair, &seen, (approach, reach)) {
+            if let Some(rigid) = context.rigid_mut() {
                 rigid.solver_contacts.clear();
-                self.candidates.push(candidate(AppliedBy::Replay));
-            } else {
-                // A contact rapier has been carrying: rapier's, unbounced.
-                *rigid.restitution = 0.0;
             }
             return;
         }
-        // Here the mode is Restitution (native returned first; impulse and
-        // exact pairs are all the replay's).
-        if self.mode != Mode::Restitution {
+        let Some(rigid) = context.rigid_mut() else {
+            return;
+        };
+        // Not an impact (resting, sliding, separating): hand it to rapier
+        // with no bounce. A NaN approach fails the comparison and lands
+        // here too.
+        if !(approach > frame.rest_speed && approach.is_finite()) {
+            *rigid.restitution = 0.0;
             return;
         }
+        if !by_replay {
+            self.bounce_by_solver(context, (b1, b2), &seen, reach, candidate);
+        } else if seen.fresh {
+            // rapier leaves the pair alone this step; kimpact resolves
+            // it after the step.
+            rigid.solver_contacts.clear();
+            self.candidates.push(candidate(AppliedBy::Replay));
+        } else {
+            // A contact rapier has been carrying: rapier's, unbounced.
+            *rigid.restitution = 0.0;
+        }
+    }
+
+    /// Whether rapier's solver would bounce a pair it leaves (restitution
+    /// mode's slow balls) whose bodies' paths pass each other: rapier's
+    /// speculative contact is linear: it takes a pair whose gap closes by
+    /// more than the gap along the normal as meeting, even when the
+    /// bodies' real paths pass each other (a graze), and bounces it
+    /// ("ghost" collisions). Such a pair keeps no contact this step: it is
+    /// apart now and does not meet on its path. Unless either collider
+    /// touches something else: rapier's solver may then push its body off
+    /// that path (a ball in a landing pile, bounced up by the balls under
+    /// it, into one falling onto it), and only the contact keeps the two
+    /// apart. `(approach, reach)`: the pair's approach speed and how far
+    /// it closes within the step.
+    fn is_graze(
+        &self,
+        context: &ContactModificationContext,
+        pair: &PairIds,
+        seen: &Seen,
+        (approach, reach): (Real, Real),
+    ) -> bool {
+        approach > self.frame.rest_speed
+            && seen.dist > 0.0
+            && seen.dist <= reach
+            && !self.prepare.is_crowded(pair.c1)
+            && !self.prepare.is_crowded(pair.c2)
+            && !self.meets(context.colliders, context.bodies, pair)
+    }
+
+    /// Restitution mode, a pair of slow balls that approach: rapier's
+    /// solver bounces it with the law's restitution (impact friction: the
+    /// rigid law at the contact), and a fresh one that can meet within the
+    /// step (`reach`) is kept for the report.
+    fn bounce_by_solver(
+        &self,
+        context: &mut ContactModificationContext,
+        (b1, b2): (LawBody, LawBody),
+        seen: &Seen,
+        reach: Real,
+        candidate: impl FnOnce(AppliedBy) -> Candidate,
+    ) {
+        let (c1, c2) = (context.collider1, context.collider2);
         if !self.marks.friction(c1, c2).is_frictionless() {
             // Impact friction turns the balls: the rigid law at the contact.
-            self.respond_rigid(context, &frame);
+            self.respond_rigid(context);
             return;
         }
+        let Some(rigid) = context.rigid_mut() else {
+            return;
+        };
+        let (n, w) = (seen.normal, b2.velocity - b1.velocity);
+        let approach = -w.dot(n);
         let tangential = (w + n * approach).length();
         let law = self.marks.law(self.law, c1, c2);
         match law.restitution(b1.mass, b2.mass, approach, tangential) {
@@ -236,7 +241,7 @@ impl StepHooks<'_> {
                 // within the step; reported if rapier's contact then carried
                 // an impulse (a speculative contact further away gets none,
                 // and stays fresh for the next step).
-                if fresh && dist <= reach * 1.01 + Real::EPSILON {
+                if seen.fresh && seen.dist <= reach * 1.01 + Real::EPSILON {
                     self.candidates.push(candidate(AppliedBy::Solver));
                 }
             }
@@ -281,7 +286,8 @@ impl StepHooks<'_> {
     /// the replay's (which moves bodies as points, in impulse and exact
     /// mode too) and has no graze test (its cast is linear, the bodies
     /// turn).
-    fn respond_rigid(&self, context: &mut ContactModificationContext, frame: &StepFrame) {
+    fn respond_rigid(&self, context: &mut ContactModificationContext) {
+        let frame = &self.frame;
         let (bodies, rb1, rb2) = (context.bodies, context.rigid_body1, context.rigid_body2);
         let (c1, c2) = (context.collider1, context.collider2);
         let Some((b1, b2)) = self.law_bodies(context) else {
@@ -376,13 +382,8 @@ impl StepHooks<'_> {
     /// straight paths rapier is about to integrate (velocity plus gravity),
     /// by a linear cast (closed form for two balls and for a ball and a
     /// cuboid, parry's shape cast otherwise).
-    fn meets(
-        &self,
-        frame: &StepFrame,
-        colliders: &ColliderSet,
-        bodies: &RigidBodySet,
-        pair: &PairIds,
-    ) -> bool {
+    fn meets(&self, colliders: &ColliderSet, bodies: &RigidBodySet, pair: &PairIds) -> bool {
+        let frame = &self.frame;
         let path = |h: Option<RigidBodyHandle>| {
             h.and_then(|h| bodies.get(h))
                 .map_or(Vector::ZERO, |rb| path_velocity(rb, frame.gravity_dt()))
@@ -403,6 +404,42 @@ impl StepHooks<'_> {
         let window = frame.dt * (1.0 + GRAZE_HORIZON);
         // Anything but a clear "no" (an unsupported shape pair) is a meeting.
         crate::cast::cast(a, b, window, InContact::Meets) != CastOutcome::Miss
+    }
+}
+
+/// What the hook reads of a pair's solver contacts.
+struct Seen {
+    /// The manifold's normal.
+    normal: Vector,
+    /// The smallest solver-contact distance (negative: overlap).
+    dist: Real,
+    /// The contact point of the closest solver contact.
+    point: Vector,
+    /// Newness as rapier's solver decides it: the contact carried no
+    /// impulse at the previous step.
+    fresh: bool,
+}
+
+impl Seen {
+    fn of(rigid: &ModifiableManifold) -> Self {
+        let fresh = rigid
+            .solver_contacts
+            .iter()
+            .all(|c| c.contact_id[0] & NEW_CONTACT_BIT != 0);
+        let (dist, point) = rigid
+            .solver_contacts
+            .iter()
+            .map(|c| (c.dist, (c.anchor1 + c.anchor2) * 0.5))
+            .fold(
+                (Real::MAX, Vector::ZERO),
+                |acc, x| if x.0 < acc.0 { x } else { acc },
+            );
+        Self {
+            normal: *rigid.normal,
+            dist,
+            point,
+            fresh,
+        }
     }
 }
 

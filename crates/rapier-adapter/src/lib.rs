@@ -45,6 +45,7 @@ pub use kimpact::{FixedPartner, ImpactFriction, Law, LawError, LawParams, Precis
 
 // The module map, from the bottom up (no module imports one above it):
 // math, mode, frame, config     plain types (Mode and Stats from the core) and the step's constants
+// handle_map                    per-handle storage with generation checks
 // material                      law parameters per collider
 // body_view, marks, candidates  how the law sees bodies and pairs
 // pair_filter                   whether rapier would let a pair touch
@@ -63,6 +64,7 @@ mod cast;
 mod config;
 mod events;
 mod frame;
+mod handle_map;
 mod hook;
 mod leaves;
 mod marks;
@@ -70,6 +72,7 @@ mod material;
 pub mod math;
 mod mode;
 mod pair_filter;
+mod policy;
 pub mod prelude;
 mod prepare;
 mod replay;

@@ -3,30 +3,32 @@
 use kimpact::{ImpactFriction, Law};
 
 use crate::body_view::translations_locked;
+use crate::handle_map::HandleMap;
 use crate::material::{Material, pair_friction, pair_law};
 use crate::math::Real;
 use crate::rapier::prelude::*;
 
-/// The marked colliders: by collider index, the generation + 1 of the
-/// marked handle (0: not marked), so a handle whose slot rapier reused for
-/// another collider is not marked by accident; and their materials.
+/// The marked colliders, each with whether it is a point collider and its
+/// material (per handle: a collider rapier inserts in a removed one's slot
+/// is not marked by accident).
 #[derive(Clone, Debug, Default)]
-#[cfg_attr(
-    feature = "serde-serialize",
-    derive(serde::Serialize, serde::Deserialize)
-)]
 pub(crate) struct Marks {
-    tags: Vec<u32>,
-    /// By collider index, the material of a marked collider that has one;
-    /// empty while no collider has one (a scene without materials pays one
-    /// length test per law it asks for).
-    #[cfg_attr(feature = "serde-serialize", serde(default))]
-    materials: Vec<Option<Material>>,
-    /// By collider index, whether a marked collider is not a ball centred
-    /// on its body (see [`is_point_collider`]); empty while every marked
-    /// collider is one (a scene of balls pays one length test per pair).
-    #[cfg_attr(feature = "serde-serialize", serde(default))]
-    extended: Vec<bool>,
+    marked: HandleMap<ColliderHandle, Mark>,
+    /// How many marked colliders carry a material: while none does, a
+    /// pair's law is the base law without a lookup.
+    with_material: usize,
+    /// How many marked colliders are not balls centred on their body (see
+    /// [`is_point_collider`]): while none is, no pair turns, without a
+    /// lookup.
+    extended: usize,
+}
+
+/// What the law needs of one marked collider.
+#[derive(Copy, Clone, Debug, Default)]
+struct Mark {
+    /// Not a point collider (see [`is_point_collider`]).
+    extended: bool,
+    material: Option<Material>,
 }
 
 /// Which partners of a marked collider the law governs besides marked
@@ -67,83 +69,57 @@ pub(crate) fn is_point_collider(co: &Collider) -> bool {
 impl Marks {
     /// Mark `handle` (the caller has checked it is in the collider set, so
     /// its index is bounded by the set's size); `point`: whether it is a
-    /// point collider ([`is_point_collider`]).
+    /// point collider ([`is_point_collider`]). Marking a marked collider
+    /// again keeps its material.
     pub(crate) fn insert(&mut self, handle: ColliderHandle, point: bool) {
-        let (index, generation) = handle.into_raw_parts();
-        let index = index as usize;
-        if self.tags.len() <= index {
-            self.tags.resize(index + 1, 0);
-        }
-        self.tags[index] = generation.wrapping_add(1);
-        if !point && self.extended.len() <= index {
-            self.extended.resize(index + 1, false);
-        }
-        if let Some(e) = self.extended.get_mut(index) {
-            *e = !point;
-        }
+        let mark = self.marked.get_or_insert_with(handle, Mark::default);
+        self.extended -= usize::from(mark.extended);
+        mark.extended = !point;
+        self.extended += usize::from(mark.extended);
     }
 
     /// The marked colliders in index order, each with whether it is a
     /// point collider and its material.
     pub(crate) fn iter(&self) -> impl Iterator<Item = (ColliderHandle, bool, Option<&Material>)> {
-        self.tags.iter().enumerate().filter_map(|(index, &tag)| {
-            let handle = ColliderHandle::from_raw_parts(index as u32, tag.checked_sub(1)?);
-            Some((handle, !self.is_extended(handle), self.material(handle)))
-        })
+        self.marked
+            .iter()
+            .map(|(handle, mark)| (handle, !mark.extended, mark.material.as_ref()))
     }
 
     /// How many colliders are marked.
     pub(crate) fn len(&self) -> usize {
-        self.tags.iter().filter(|&&tag| tag != 0).count()
+        self.marked.iter().count()
     }
 
     /// Whether marked collider `handle` is not a point collider.
     pub(crate) fn is_extended(&self, handle: ColliderHandle) -> bool {
-        self.extended
-            .get(handle.into_raw_parts().0 as usize)
-            .copied()
-            .unwrap_or(false)
+        self.extended > 0 && self.marked.get(handle).is_some_and(|m| m.extended)
     }
 
     /// Unmark `handle`; whether it was marked. A handle of another
     /// generation than the marked one leaves the mark alone.
     pub(crate) fn remove(&mut self, handle: ColliderHandle) -> bool {
-        let (index, generation) = handle.into_raw_parts();
-        match self.tags.get_mut(index as usize) {
-            Some(m) if *m == generation.wrapping_add(1) => {
-                *m = 0;
-                if let Some(slot) = self.materials.get_mut(index as usize) {
-                    *slot = None;
-                }
-                if let Some(e) = self.extended.get_mut(index as usize) {
-                    *e = false;
-                }
-                true
-            }
-            _ => false,
-        }
+        let Some(mark) = self.marked.remove(handle) else {
+            return false;
+        };
+        self.extended -= usize::from(mark.extended);
+        self.with_material -= usize::from(mark.material.is_some());
+        true
     }
 
     /// Set (or clear) the material of marked collider `handle`.
     pub(crate) fn set_material(&mut self, handle: ColliderHandle, material: Option<Material>) {
-        let index = handle.into_raw_parts().0 as usize;
-        if material.is_none() && self.materials.len() <= index {
+        let Some(mark) = self.marked.get_mut(handle) else {
             return;
-        }
-        if self.materials.len() <= index {
-            self.materials.resize(index + 1, None);
-        }
-        self.materials[index] = material;
+        };
+        self.with_material -= usize::from(mark.material.is_some());
+        mark.material = material;
+        self.with_material += usize::from(mark.material.is_some());
     }
 
     /// The material of `handle`, if it is marked with one.
     pub(crate) fn material(&self, handle: ColliderHandle) -> Option<&Material> {
-        if !self.contains(handle) {
-            return None;
-        }
-        self.materials
-            .get(handle.into_raw_parts().0 as usize)?
-            .as_ref()
+        self.marked.get(handle)?.material.as_ref()
     }
 
     /// The law for the pair `c1`/`c2`: `base` unless either carries a
@@ -155,7 +131,7 @@ impl Marks {
         c1: ColliderHandle,
         c2: ColliderHandle,
     ) -> Law<Real> {
-        if self.materials.is_empty() {
+        if self.with_material == 0 {
             return *base;
         }
         pair_law(base, self.material(c1), self.material(c2))
@@ -165,7 +141,7 @@ impl Marks {
     /// either carries a material with it (see [`Material`]).
     #[inline]
     pub(crate) fn friction(&self, c1: ColliderHandle, c2: ColliderHandle) -> ImpactFriction<Real> {
-        if self.materials.is_empty() {
+        if self.with_material == 0 {
             return ImpactFriction::frictionless();
         }
         pair_friction(self.material(c1), self.material(c2))
@@ -174,8 +150,7 @@ impl Marks {
     /// Whether `handle` is marked.
     #[inline]
     pub(crate) fn contains(&self, handle: ColliderHandle) -> bool {
-        let (index, generation) = handle.into_raw_parts();
-        self.tags.get(index as usize) == Some(&(generation.wrapping_add(1)))
+        self.marked.get(handle).is_some()
     }
 
     /// Whether the law governs the pair: both marked, or one marked and the
@@ -218,7 +193,7 @@ impl Marks {
         c1: ColliderHandle,
         c2: ColliderHandle,
     ) -> bool {
-        !self.extended.is_empty()
+        self.extended > 0
             && ((self.contains(c1) && self.turns(colliders, bodies, c1))
                 || (self.contains(c2) && self.turns(colliders, bodies, c2)))
     }

@@ -17,11 +17,12 @@ use std::sync::atomic::{AtomicU32, Ordering};
 use crate::body_view::{SWEPT_SHARE, Starts, half_size, path_velocity};
 use crate::calm::{Calm, CalmSchedule, Frame};
 use crate::frame::StepFrame;
+use crate::handle_map::HandleMap;
 use crate::marks::Marks;
 use crate::math::Real;
 #[cfg(feature = "parallel")]
 use crate::math::Vector;
-use crate::mode::Mode;
+use crate::policy::Policy;
 use crate::rapier::prelude::*;
 
 /// What [`Prepare::run`] reads of the step.
@@ -33,7 +34,7 @@ pub(crate) struct PrepareInput<'a> {
     pub narrow_phase: &'a NarrowPhase,
     pub frame: StepFrame,
     pub marks: &'a Marks,
-    pub mode: Mode,
+    pub policy: Policy,
     pub fixed_partners: bool,
     pub calm_neighbourhoods: bool,
     pub keep_moving_awake: bool,
@@ -48,8 +49,9 @@ struct FlagStep<'a> {
     frame: StepFrame,
     /// Half the rest speed: a body faster than this may start an impact.
     threshold: Real,
-    /// Restitution mode: the swept and crowded colliders are noted.
-    restitution: bool,
+    /// Whether the swept and crowded colliders are noted (restitution
+    /// mode, see [`Policy::notes_fast_bodies`]).
+    notes_fast_bodies: bool,
     keep_moving_awake: bool,
 }
 
@@ -60,7 +62,7 @@ impl<'a> FlagStep<'a> {
             marks: input.marks,
             frame: input.frame,
             threshold: 0.5 * input.frame.rest_speed,
-            restitution: input.mode == Mode::Restitution,
+            notes_fast_bodies: input.policy.notes_fast_bodies(),
             keep_moving_awake: input.keep_moving_awake,
         }
     }
@@ -91,8 +93,9 @@ pub(crate) struct Carried {
 /// The hook flags kimpact keeps between steps, and the start of the step.
 #[derive(Default)]
 pub(crate) struct Prepare {
-    /// Per collider index: whether `MODIFY_SOLVER_CONTACTS` is set by us.
-    pub ours: Vec<bool>,
+    /// Per collider: whether `MODIFY_SOLVER_CONTACTS` is set by us, and
+    /// when it was last flagged, crowded, swept.
+    flags: HandleMap<ColliderHandle, Flag>,
     /// Colliders whose hook flag we set this step, but for those in
     /// `rigid`: in impulse and exact mode, the colliders the replay sweeps.
     pub flagged: Vec<ColliderHandle>,
@@ -106,22 +109,15 @@ pub(crate) struct Prepare {
     previous: Vec<ColliderHandle>,
     /// Scratch of `run`: last step's `rigid`.
     previous_rigid: Vec<ColliderHandle>,
-    /// Per collider index: the step (`epoch`) at which it was last flagged.
-    seen: Vec<u32>,
-    /// Per collider index: the step (`epoch`) at which it was flagged while
-    /// touching something (see [`Prepare::is_crowded`]).
-    crowded: Vec<u32>,
-    /// Per collider index: the step (`epoch`) at which kimpact's hook left
-    /// one of its pairs with solver contacts (see [`Prepare::touch`]), sized
-    /// by `flag` to cover the flagged colliders.
-    touched: Vec<AtomicU32>,
+    /// Per collider: the step (`epoch`) at which kimpact's hook left one of
+    /// its pairs with solver contacts (see [`Prepare::touch`]), made by
+    /// `flag` for the flagged colliders.
+    touched: HandleMap<ColliderHandle, AtomicU32>,
     /// The `epoch` of the step before this one.
     last_epoch: u32,
     /// Restitution mode: the flagged colliders whose bodies move more than
     /// a quarter of their size this step (see [`Prepare::is_swept`]).
     pub swept: Vec<ColliderHandle>,
-    /// Per collider index: the step (`epoch`) at which it was last swept.
-    swept_at: Vec<u32>,
     epoch: u32,
     /// Colliders marked since the last step: their bodies may not be in
     /// rapier's active set yet (inserted, or woken, since the last step).
@@ -149,6 +145,21 @@ pub(crate) struct Prepare {
     #[cfg(feature = "parallel")]
     #[cfg_attr(feature = "serde-serialize", serde(skip))]
     scans: Vec<Scan>,
+}
+
+/// What stage 1 keeps of a collider it flagged.
+#[derive(Copy, Clone, Debug, Default)]
+struct Flag {
+    /// Whether `MODIFY_SOLVER_CONTACTS` is set by us.
+    ours: bool,
+    /// The step (`epoch`) at which it was last flagged.
+    seen: u32,
+    /// The step (`epoch`) at which it was flagged while touching something
+    /// (see [`Prepare::is_crowded`]).
+    crowded: u32,
+    /// The step (`epoch`) at which it was last swept (see
+    /// [`Prepare::is_swept`]).
+    swept_at: u32,
 }
 
 /// What the parallel pass over the awake bodies reads of one
@@ -193,16 +204,16 @@ impl Prepare {
             woken,
             calm,
         } = carried;
-        let mut ours = Vec::new();
+        let mut flags = HandleMap::default();
         for &ch in &hooked {
-            let index = ch.into_raw_parts().0 as usize;
-            if ours.len() <= index {
-                ours.resize(index + 1, false);
-            }
-            ours[index] = true;
+            let flag = Flag {
+                ours: true,
+                ..Flag::default()
+            };
+            flags.insert(ch, flag);
         }
         Self {
-            ours,
+            flags,
             flagged: hooked,
             pending: marked_since_step,
             woken,
@@ -228,7 +239,7 @@ impl Prepare {
         let PrepareInput {
             islands,
             bodies,
-            mode,
+            policy,
             ..
         } = *input;
         let step = FlagStep::new(input);
@@ -242,7 +253,7 @@ impl Prepare {
         self.rigid.clear();
         self.swept.clear();
         self.to_wake.clear();
-        if mode != Mode::Native {
+        if policy.acts() {
             let fast = if input.calm_neighbourhoods && self.calm.wanted() {
                 let (fast, calm) = self.prepare_calm(input, &step, colliders);
                 calm_bodies = calm;
@@ -297,16 +308,14 @@ impl Prepare {
     /// step) not flagged again this step.
     fn unflag_stale(&mut self, previous: &[ColliderHandle], colliders: &mut ColliderSet) {
         for &handle in previous {
-            let (index, _) = handle.into_raw_parts();
-            let index = index as usize;
-            if self.seen.get(index) == Some(&self.epoch) {
+            if self.flags.get(handle).is_some_and(|f| f.seen == self.epoch) {
                 continue;
             }
             if let Some(co) = colliders.get_mut(handle) {
                 co.set_active_hooks(co.active_hooks() - ActiveHooks::MODIFY_SOLVER_CONTACTS);
             }
-            if let Some(o) = self.ours.get_mut(index) {
-                *o = false;
+            if let Some(flag) = self.flags.get_mut(handle) {
+                flag.ours = false;
             }
         }
     }
@@ -320,8 +329,7 @@ impl Prepare {
     /// contacts. The replay sweeps them after the step, and the hook leaves
     /// their pairs to it.
     pub(crate) fn is_swept(&self, ch: ColliderHandle) -> bool {
-        let index = ch.into_raw_parts().0 as usize;
-        self.swept_at.get(index) == Some(&self.epoch)
+        self.flags.get(ch).is_some_and(|f| f.swept_at == self.epoch)
     }
 
     /// Whether flagged collider `ch` touched something at the start of this
@@ -332,8 +340,13 @@ impl Prepare {
     /// pairs then ([`Prepare::touch`]); for one flagged afresh, its
     /// contact pairs in the narrow phase are read.
     pub(crate) fn is_crowded(&self, ch: ColliderHandle) -> bool {
-        let index = ch.into_raw_parts().0 as usize;
-        self.crowded.get(index) == Some(&self.epoch)
+        self.flags.get(ch).is_some_and(|f| f.crowded == self.epoch)
+    }
+
+    /// Whether kimpact set `MODIFY_SOLVER_CONTACTS` on collider `ch` (not
+    /// the user).
+    pub(crate) fn is_ours(&self, ch: ColliderHandle) -> bool {
+        self.flags.get(ch).is_some_and(|f| f.ours)
     }
 
     /// Called by kimpact's hook for each collider of a pair it leaves with
@@ -341,8 +354,7 @@ impl Prepare {
     /// the next step's [`Prepare::is_crowded`] reads it. Lock-free, so that
     /// the hook stays `Sync`.
     pub(crate) fn touch(&self, ch: ColliderHandle) {
-        let index = ch.into_raw_parts().0 as usize;
-        if let Some(t) = self.touched.get(index) {
+        if let Some(t) = self.touched.get(ch) {
             t.store(self.epoch, Ordering::Relaxed);
         }
     }
@@ -579,7 +591,7 @@ impl Prepare {
         let partner = self.partners && rb.is_kinematic();
         // How far the body moves this step (restitution mode's swept test;
         // a NaN is not swept: the hook's guard cuts it off).
-        let travel = if step.restitution && rb.is_dynamic() {
+        let travel = if step.notes_fast_bodies && rb.is_dynamic() {
             (path_velocity(rb, step.frame.gravity_dt()) * step.frame.dt).length()
         } else {
             0.0
@@ -593,15 +605,12 @@ impl Prepare {
                 continue;
             }
             any_marked = true;
-            let (index, _) = ch.into_raw_parts();
-            let index = index as usize;
-            if self.seen.len() <= index {
-                self.seen.resize(index + 1, 0);
-            }
-            if self.seen[index] == self.epoch {
+            let epoch = self.epoch;
+            let flag = self.flags.get_or_insert_with(ch, Flag::default);
+            if flag.seen == epoch {
                 continue; // flagged already this step
             }
-            let carried = self.ours.get(index).copied().unwrap_or(false);
+            let carried = flag.ours;
             if !carried {
                 let Some(co) = colliders.get(ch) else {
                     continue;
@@ -615,27 +624,22 @@ impl Prepare {
                 if let Some(co) = colliders.get_mut(ch) {
                     co.set_active_hooks(co.active_hooks() | ActiveHooks::MODIFY_SOLVER_CONTACTS);
                 }
-                if self.ours.len() <= index {
-                    self.ours.resize(index + 1, false);
-                }
-                self.ours[index] = true;
+                flag.ours = true;
             }
             // Ours since last step (`carried`): kept, untouched.
-            self.seen[index] = self.epoch;
+            flag.seen = epoch;
             if extended && rb.is_dynamic() {
                 self.rigid.push(ch);
             } else {
                 self.flagged.push(ch);
             }
             flagged = true;
-            if self.touched.len() <= index {
-                self.touched.resize_with(index + 1, || AtomicU32::new(0));
-            }
-            if step.restitution {
+            self.touched.get_or_insert_with(ch, || AtomicU32::new(0));
+            if step.notes_fast_bodies {
                 // The replay moves bodies as points: an extended collider is
                 // never swept.
                 let travel = if extended { 0.0 } else { travel };
-                self.note_restitution(ch, index, carried, travel, colliders, step.narrow_phase);
+                self.note_restitution(ch, carried, travel, colliders, step.narrow_phase);
             }
         }
         if flagged
@@ -649,14 +653,13 @@ impl Prepare {
         any_marked
     }
 
-    /// Restitution mode, for collider `ch` (index `index`) just flagged:
+    /// Restitution mode, for collider `ch` just flagged:
     /// whether it is crowded (see [`Prepare::is_crowded`]; `carried`: it was
     /// flagged last step too) and whether its body's `travel` this step
     /// makes it swept ([`Prepare::is_swept`]).
     fn note_restitution(
         &mut self,
         ch: ColliderHandle,
-        index: usize,
         carried: bool,
         travel: Real,
         colliders: &ColliderSet,
@@ -664,27 +667,25 @@ impl Prepare {
     ) {
         let seen_by_hook = carried && self.last_epoch != 0;
         let crowded = if seen_by_hook {
-            self.touched[index].load(Ordering::Relaxed) == self.last_epoch
+            self.touched
+                .get(ch)
+                .is_some_and(|t| t.load(Ordering::Relaxed) == self.last_epoch)
         } else {
             narrow_phase
                 .contact_pairs_with(ch)
                 .any(|cp| cp.has_any_active_contact())
         };
+        let epoch = self.epoch;
+        let flag = self.flags.get_or_insert_with(ch, Flag::default);
         if crowded {
-            if self.crowded.len() <= index {
-                self.crowded.resize(index + 1, 0);
-            }
-            self.crowded[index] = self.epoch;
+            flag.crowded = epoch;
         }
         if travel > 0.0
             && colliders
                 .get(ch)
                 .is_some_and(|co| travel > SWEPT_SHARE * half_size(co))
         {
-            if self.swept_at.len() <= index {
-                self.swept_at.resize(index + 1, 0);
-            }
-            self.swept_at[index] = self.epoch;
+            flag.swept_at = epoch;
             self.swept.push(ch);
         }
     }

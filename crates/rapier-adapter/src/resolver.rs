@@ -10,11 +10,12 @@ use crate::config::{ResolverConfig, ResolverConfigError};
 use crate::events::{AppliedBy, EventLog, ImpactEvent, Outcome, Stats};
 use crate::frame::StepFrame;
 use crate::hook::StepHooks;
-use crate::marks::{Marks, Partners};
+use crate::marks::Marks;
 use crate::material::Material;
 use crate::math::{Real, Vector, to_law};
 use crate::mode::Mode;
 use crate::pair_filter::PairFilter;
+use crate::policy::{Policy, Response};
 use crate::prepare::{Prepare, PrepareInput};
 use crate::rapier::prelude::*;
 use crate::replay::{Replay, ReplayInput, ReplayOutput, ReplaySets};
@@ -42,14 +43,14 @@ pub enum HandleError {
 /// so the three stages can only run in their order (there is no finishing
 /// a step that was not prepared, nor finishing one twice).
 ///
-/// It holds the step's gravity, integration parameters and mode as
-/// `before_step` fixed them; hand it to the same [`Kimpact`] (the resolver
-/// keeps the rest of the step's state).
+/// It holds the step's gravity, integration parameters and what its mode
+/// does as `before_step` fixed them; hand it to the same [`Kimpact`] (the
+/// resolver keeps the rest of the step's state).
 #[derive(Debug)]
 #[must_use = "a prepared step is finished by Kimpact::after_step"]
 pub struct PreparedStep {
     frame: StepFrame,
-    mode: Mode,
+    policy: Policy,
 }
 
 /// kimpact's resolver: the law, the mode, the marked colliders, and the state
@@ -426,7 +427,7 @@ impl Kimpact {
         self.candidates.clear();
         *self.guarded.get_mut() = 0;
         let frame = StepFrame::new(gravity, integration_parameters, self.config.rest_speed);
-        let mode = self.mode;
+        let policy = Policy::new(self.mode, &self.config, &frame);
         let input = PrepareInput {
             islands,
             bodies,
@@ -434,14 +435,14 @@ impl Kimpact {
             narrow_phase,
             frame,
             marks: &self.marks,
-            mode,
+            policy,
             fixed_partners: self.config.fixed_partners,
             calm_neighbourhoods: self.config.calm_neighbourhoods,
             keep_moving_awake: self.config.keep_moving_awake,
         };
         self.log.stats.calm_bodies += self.prepare.run(&input, colliders);
         self.prepare.wake_moving(bodies);
-        PreparedStep { frame, mode }
+        PreparedStep { frame, policy }
     }
 
     /// Stage 2: the [`PhysicsHooks`] to pass to `PhysicsPipeline::step`
@@ -461,11 +462,10 @@ impl Kimpact {
     ) -> StepHooks<'a> {
         StepHooks {
             law: &self.law,
-            frame: Some(prepared.frame),
-            mode: prepared.mode,
+            frame: prepared.frame,
+            policy: prepared.policy,
             marks: &self.marks,
             prepare: &self.prepare,
-            partners: Partners::of(self.config.fixed_partners),
             candidates: &self.candidates,
             guarded: &self.guarded,
             user,
@@ -497,7 +497,7 @@ impl Kimpact {
         multibody_joints: &MultibodyJointSet,
         hooks: &dyn PhysicsHooks,
     ) {
-        let PreparedStep { frame, mode } = prepared;
+        let PreparedStep { frame, policy } = prepared;
         let guarded = self.guarded.swap(0, Ordering::Relaxed);
         if guarded > 0 {
             log::warn!(
@@ -506,47 +506,42 @@ impl Kimpact {
             self.log.stats.skipped_non_finite += guarded;
         }
         self.candidates.collect();
-        match mode {
-            Mode::Native => {}
-            Mode::Restitution | Mode::Impulse | Mode::Exact => {
-                // The impacts rapier's solver bounced with the law's
-                // restitution: every mode's rigid bodies, restitution
-                // mode's slow balls.
-                self.report_by_solver(narrow_phase);
-                if mode == Mode::Restitution && self.prepare.swept.is_empty() {
-                    // Nothing too fast for rapier's contacts: every impact
-                    // was rapier's solver's.
-                    return;
-                }
-                // Restitution mode sweeps only its fast bodies.
-                let swept = match mode {
-                    Mode::Restitution => &self.prepare.swept,
-                    _ => &self.prepare.flagged,
-                };
-                let input = ReplayInput {
-                    law: &self.law,
-                    mode,
-                    config: &self.config,
-                    marks: &self.marks,
-                    flagged: swept,
-                    starts: &self.prepare.starts,
-                    candidates: self.candidates.sorted(),
-                    frame,
-                    filter: PairFilter::new(impulse_joints, multibody_joints, hooks),
-                };
-                let mut out = ReplayOutput {
-                    log: &mut self.log,
-                    woken: &mut self.prepare.woken,
-                };
-                let sets = ReplaySets {
-                    bodies,
-                    colliders,
-                    narrow_phase,
-                    broad_phase,
-                };
-                self.replay.run(&input, sets, &mut out);
-            }
+        if !policy.acts() {
+            return;
         }
+        // The impacts rapier's solver bounced with the law's restitution:
+        // every mode's rigid bodies, restitution mode's slow balls.
+        self.report_by_solver(narrow_phase);
+        // The colliders the replay sweeps: restitution mode's fast bodies'
+        // (when there are none, every impact was rapier's solver's), every
+        // flagged one in the others.
+        let swept = match policy.response {
+            Response::SolverAndFastReplay if self.prepare.swept.is_empty() => return,
+            Response::SolverAndFastReplay => &self.prepare.swept,
+            Response::Replay | Response::Rapier => &self.prepare.flagged,
+        };
+        let input = ReplayInput {
+            law: &self.law,
+            policy,
+            config: &self.config,
+            marks: &self.marks,
+            flagged: swept,
+            starts: &self.prepare.starts,
+            candidates: self.candidates.sorted(),
+            frame,
+            filter: PairFilter::new(impulse_joints, multibody_joints, hooks),
+        };
+        let mut out = ReplayOutput {
+            log: &mut self.log,
+            woken: &mut self.prepare.woken,
+        };
+        let sets = ReplaySets {
+            bodies,
+            colliders,
+            narrow_phase,
+            broad_phase,
+        };
+        self.replay.run(&input, sets, &mut out);
     }
 
     /// The pairs rapier's solver bounced with the law's restitution (in
@@ -651,7 +646,12 @@ mod tests {
                     (ch, pairs.any(|cp| cp.has_any_active_contact()))
                 })
                 .collect();
-            let carried_before = kimpact.prepare.ours.clone();
+            let carried_before: Vec<ColliderHandle> = world
+                .colliders
+                .iter()
+                .map(|(ch, _)| ch)
+                .filter(|&ch| kimpact.prepare.is_ours(ch))
+                .collect();
             kimpact.step_world(&mut world, &(), &());
             // This step's flags and crowding stay in place until the next.
             for &ch in &kimpact.prepare.flagged {
@@ -660,11 +660,7 @@ mod tests {
                     .find_map(|&(c, t)| (c == ch).then_some(t))
                     .expect("the collider was there before the step");
                 assert_eq!(kimpact.prepare.is_crowded(ch), touching, "collider {ch:?}");
-                let index = ch.into_raw_parts().0 as usize;
-                match (
-                    carried_before.get(index).copied().unwrap_or(false),
-                    touching,
-                ) {
+                match (carried_before.contains(&ch), touching) {
                     (true, true) => carried_crowded += 1,
                     (true, false) => carried_free += 1,
                     (false, _) => fresh += 1,

@@ -9,17 +9,17 @@ use crate::config::ResolverConfig;
 use crate::events::EventLog;
 use crate::frame::StepFrame;
 use crate::marks::{Marks, Partners};
+use crate::policy::{Policy, Reach};
 use crate::math::{Real, Vector};
-use crate::mode::Mode;
 use crate::pair_filter::PairFilter;
 use crate::rapier::prelude::*;
 
-/// What a replay run reads: the law, the mode, the settings and marks in
+/// What a replay run reads: the law, the step's policy, the settings and marks in
 /// force, the colliders flagged this step, where the bodies started it,
 /// the pairs the hook handed over, and the step's constants.
 pub(crate) struct ReplayInput<'a> {
     pub law: &'a Law<Real>,
-    pub mode: Mode,
+    pub policy: Policy,
     pub config: &'a ResolverConfig,
     pub marks: &'a Marks,
     pub flagged: &'a [ColliderHandle],
@@ -44,66 +44,6 @@ pub(crate) struct ReplaySets<'a> {
 pub(crate) struct ReplayOutput<'a> {
     pub log: &'a mut EventLog,
     pub woken: &'a mut Vec<RigidBodyHandle>,
-}
-
-/// How far a body must move to be swept, and how long a struck body
-/// chains on, in the run's mode.
-#[derive(Copy, Clone, Debug)]
-pub(super) struct Reach {
-    /// How far a body must move this step (besides more than half its
-    /// size) to be swept for partners.
-    pub sweep: Real,
-    /// `sweep` for a body that falls (moves along gravity).
-    pub fall: Real,
-    /// Restitution mode: a body an impact bends chains on only while it
-    /// moves more than this share of its half-size over the rest of the
-    /// step; zero (always) in the others.
-    pub chain_share: Real,
-}
-
-impl Reach {
-    /// The reaches of `mode`, with rapier's prediction distance
-    /// `prediction`.
-    ///
-    /// rapier's contacts (hence the candidates) reach `prediction` beyond
-    /// the start-of-step shapes. Two bodies each moving at most half of
-    /// that close at most all of it, so they were seen; a body moving
-    /// more may reach a partner unseen (a gas ball at 3 m/s moves 0.05
-    /// per step at 60 Hz, the prediction is 0.02), and is swept in exact
-    /// mode. Impulse mode sweeps only what could tunnel: a pair rapier
-    /// did not reach is first seen overlapping next step, and rewound.
-    /// Restitution mode hands over only the bodies that move more than
-    /// a quarter of their size (`Prepare::is_swept`): each is swept.
-    /// Impulse mode sweeps a falling body as exact mode does: it lands
-    /// on partners at rest, and a landing rapier first sees overlapping
-    /// the pile costs rapier's narrow phase more, at every step of the
-    /// landing, than the sweep costs (a gas has no gravity: nothing
-    /// falls).
-    ///
-    /// Restitution mode's replay keeps fast bodies from tunnelling
-    /// (`Prepare::is_swept`'s quarter of their size per step); a body
-    /// an impact slows below that is a slow body like any other, whose
-    /// pairs rapier's solver bounces.
-    pub(super) fn of(mode: Mode, prediction: Real) -> Self {
-        let sweep = match mode {
-            Mode::Exact => 0.5 * prediction,
-            Mode::Impulse => Real::INFINITY,
-            Mode::Native | Mode::Restitution => 0.0,
-        };
-        let fall = match mode {
-            Mode::Impulse => 0.5 * prediction,
-            _ => sweep,
-        };
-        let chain_share = match mode {
-            Mode::Restitution => crate::body_view::SWEPT_SHARE,
-            _ => 0.0,
-        };
-        Self {
-            sweep,
-            fall,
-            chain_share,
-        }
-    }
 }
 
 /// What every call of a run shares: its input, rapier's sets (read only
@@ -140,8 +80,8 @@ impl<'a> Run<'a> {
             dt: frame.dt,
             gravity_dt: frame.gravity * frame.dt,
             rest_speed: frame.rest_speed,
-            reach: Reach::of(input.mode, frame.prediction),
-            partners: Partners::of(input.config.fixed_partners),
+            reach: input.policy.reach,
+            partners: input.policy.partners,
         }
     }
 

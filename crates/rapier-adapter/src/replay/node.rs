@@ -273,17 +273,3 @@ pub(super) struct Slot {
     pub stamp: u32,
     pub node: u32,
 }
-
-impl Slot {
-    /// `slots[index]` is `node` in the run stamped `stamp`.
-    pub(super) fn set(slots: &mut Vec<Slot>, index: u32, stamp: u32, node: usize) {
-        let index = index as usize;
-        if slots.len() <= index {
-            slots.resize(index + 1, Slot::default());
-        }
-        slots[index] = Slot {
-            stamp,
-            node: node as u32,
-        };
-    }
-}

@@ -63,14 +63,17 @@ impl Replay {
             },
             None => self.new_node(run, Key::Collider(collider)),
         };
-        let index = collider.into_raw_parts().0;
-        Slot::set(&mut self.collider_slots, index, self.stamp, n);
+        let slot = Slot {
+            stamp: self.stamp,
+            node: n as u32,
+        };
+        self.collider_slots.insert(collider, slot);
         n
     }
 
     /// The node of collider `c` in this run, if it has one.
     pub(super) fn collider_node(&self, c: ColliderHandle) -> Option<usize> {
-        let slot = self.collider_slots.get(c.into_raw_parts().0 as usize)?;
+        let slot = self.collider_slots.get(c)?;
         (slot.stamp == self.stamp).then_some(slot.node as usize)
     }
 
@@ -108,7 +111,11 @@ impl Replay {
         self.ends.push([NO_PAIR; 2]);
         self.degrees.push(0);
         if let Key::Body(h) = key {
-            Slot::set(&mut self.body_slots, h.into_raw_parts().0, self.stamp, i);
+            let slot = Slot {
+                stamp: self.stamp,
+                node: i as u32,
+            };
+            self.body_slots.insert(h, slot);
         }
         i
     }
@@ -201,7 +208,7 @@ impl Replay {
     /// The node of body `h` in this run, if it has one.
     pub(super) fn body_node(&self, h: Option<RigidBodyHandle>) -> Option<usize> {
         let h = h?;
-        let slot = self.body_slots.get(h.into_raw_parts().0 as usize)?;
+        let slot = self.body_slots.get(h)?;
         (slot.stamp == self.stamp).then_some(slot.node as usize)
     }
 

@@ -3,6 +3,7 @@
 
 use super::node::{BallOnPath, Node, Pair, Slot, Sweeper};
 use super::queue::PairQueue;
+use crate::handle_map::HandleMap;
 use crate::leaves::LeafGrid;
 use crate::rapier::prelude::*;
 use crate::sweep_grid::SweepGrid;
@@ -18,14 +19,13 @@ pub(crate) struct Replay {
     /// The dynamic nodes whose path the law bent this run, in the order of
     /// their first impact (the write-back walks these, not every node).
     pub(super) hit: Vec<usize>,
-    /// Node of a body, by the body's index (valid when stamped this run):
-    /// dense arrays rather than hash maps (hashing was a fifth of a step).
-    pub(super) body_slots: Vec<Slot>,
+    /// Node of a body (valid when stamped this run): dense per-handle
+    /// storage rather than hash maps (hashing was a fifth of a step).
+    pub(super) body_slots: HandleMap<RigidBodyHandle, Slot>,
     /// Node of a collider (its body's, or its own for a collider without a
-    /// body), by the collider's index: which pairs are in the replay
-    /// already is known without reading the collider (see
-    /// `Replay::has_pair`).
-    pub(super) collider_slots: Vec<Slot>,
+    /// body): which pairs are in the replay already is known without
+    /// reading the collider (see `Replay::has_pair`).
+    pub(super) collider_slots: HandleMap<ColliderHandle, Slot>,
     /// This run's stamp.
     pub(super) stamp: u32,
     pub(super) pairs: Vec<Pair>,
@@ -62,10 +62,10 @@ pub(crate) struct Replay {
     pub(super) grid: SweepGrid,
     /// Scratch of the bulk sweep: (sweeper, collider index) pairs found.
     pub(super) found: Vec<(u32, u32)>,
-    /// Scratch of the bulk sweep, by collider index: the stamp of the run
-    /// in which the collider is a sweeper (its pairs with other sweepers
-    /// come from the grid alone).
-    pub(super) sweeping: Vec<u32>,
+    /// Scratch of the bulk sweep, per collider: the stamp of the run in
+    /// which the collider is a sweeper (its pairs with other sweepers come
+    /// from the grid alone).
+    pub(super) sweeping: HandleMap<ColliderHandle, u32>,
     /// The colliders (with their nodes) whose path an impact bent at the
     /// instant being resolved: swept once the instant is over, along their
     /// last path (see `Replay::resolve`).

@@ -7,6 +7,7 @@ use super::node::{BallOnPath, Sweeper};
 use super::nodes::rest_pose;
 use super::predict::{Rewind, cast_balls};
 use super::state::Replay;
+use crate::handle_map::HandleMap;
 use crate::leaves::for_each_leaf;
 use crate::math::Real;
 use crate::rapier::parry::partitioning::Bvh;
@@ -217,11 +218,7 @@ impl Replay {
         // first (the one that would reach it first in the order below).
         let mut sweeping = std::mem::take(&mut self.sweeping);
         for sweeper in sweepers {
-            let index = sweeper.collider.into_raw_parts().0 as usize;
-            if sweeping.len() <= index {
-                sweeping.resize(index + 1, 0);
-            }
-            sweeping[index] = self.stamp;
+            sweeping.insert(sweeper.collider, self.stamp);
         }
         let mut deferred = std::mem::take(&mut self.deferred);
         deferred.clear();
@@ -309,13 +306,13 @@ impl Replay {
         &mut self,
         tree: &Bvh,
         grid: &SweepGrid,
-        sweeping: &[u32],
+        sweeping: &HandleMap<ColliderHandle, u32>,
         found: &mut Vec<(u32, u32)>,
     ) {
         let stamp = self.stamp;
         #[cfg(not(feature = "parallel"))]
         for_each_leaf(tree, |index, node| {
-            if sweeping.get(index as usize) != Some(&stamp) {
+            if sweeping.get_by_index(index) != Some(&stamp) {
                 grid.overlaps(&node.aabb(), |s| found.push((s, index)));
             }
         });
@@ -328,7 +325,7 @@ impl Replay {
             let mut leaves = std::mem::take(&mut self.par.leaves);
             leaves.clear();
             for_each_leaf(tree, |index, node| {
-                if sweeping.get(index as usize) != Some(&stamp) {
+                if sweeping.get_by_index(index) != Some(&stamp) {
                     leaves.push((index, node.aabb()));
                 }
             });
