@@ -12,6 +12,7 @@ use crate::math::{Real, Vector};
 use crate::mode::Mode;
 use crate::prepare::Prepare;
 use crate::rapier::prelude::*;
+use crate::rigid_replay::Claims;
 use crate::rigid_view::point_velocity;
 
 /// The [`PhysicsHooks`] of one step, from [`crate::Kimpact::hooks`]: pass it
@@ -33,6 +34,8 @@ pub struct StepHooks<'a> {
     pub(crate) prepare: &'a Prepare,
     pub(crate) fixed_partners: bool,
     pub(crate) candidates: &'a Candidates,
+    /// The rigid replay's pairs (impulse and exact mode).
+    pub(crate) claims: &'a Claims,
     /// Pairs cut off by the runtime guard this step.
     pub(crate) guarded: &'a AtomicU64,
     pub(crate) user: &'a dyn PhysicsHooks,
@@ -123,7 +126,12 @@ impl StepHooks<'_> {
                 .marks
                 .governs_rigid(self.fixed_partners, colliders, bodies, c1, c2)
             {
-                self.respond_rigid(context, &frame);
+                // Impulse and exact mode: an impact is the rigid replay's.
+                let replayed = matches!(self.mode, Mode::Impulse | Mode::Exact)
+                    && self.claims.claim(context, frame.rest_speed);
+                if !replayed {
+                    self.respond_rigid(context, &frame);
+                }
             }
             return;
         }

@@ -18,6 +18,7 @@ use crate::pair_filter::PairFilter;
 use crate::prepare::{Prepare, PrepareInput};
 use crate::rapier::prelude::*;
 use crate::replay::{Replay, ReplayInput, ReplayOutput};
+use crate::rigid_replay::{RigidInput, RigidOutput, RigidReplay};
 
 /// A collider handle that is not in the collider set it was checked
 /// against.
@@ -88,6 +89,9 @@ pub struct Kimpact {
     /// This step's events and the totals.
     log: EventLog,
     replay: Replay,
+    /// Impulse and exact mode: the rigid bodies' impacts at their time of
+    /// impact.
+    rigid_replay: RigidReplay,
 }
 
 /// The user's state (law, mode, configuration, how many colliders are
@@ -135,6 +139,7 @@ impl Kimpact {
             guarded: AtomicU64::new(0),
             log: EventLog::default(),
             replay: Replay::default(),
+            rigid_replay: RigidReplay::default(),
         }
     }
 
@@ -405,6 +410,8 @@ impl Kimpact {
         };
         self.log.stats.calm_bodies += self.prepare.run(&input, colliders);
         self.prepare.wake_moving(bodies);
+        self.rigid_replay
+            .begin(mode, &self.prepare.rigid, bodies, colliders);
         PreparedStep { frame, mode }
     }
 
@@ -431,6 +438,7 @@ impl Kimpact {
             prepare: &self.prepare,
             fixed_partners: self.config.fixed_partners,
             candidates: &self.candidates,
+            claims: &self.rigid_replay.claims,
             guarded: &self.guarded,
             user,
         }
@@ -510,8 +518,50 @@ impl Kimpact {
                     broad_phase,
                     mode,
                 );
+                if matches!(mode, Mode::Impulse | Mode::Exact) {
+                    self.run_rigid_replay(
+                        frame,
+                        mode,
+                        narrow_phase,
+                        broad_phase,
+                        bodies,
+                        colliders,
+                        PairFilter::new(impulse_joints, multibody_joints, hooks),
+                    );
+                }
             }
         }
+    }
+
+    /// Impulse and exact mode, after the ball replay: the rigid bodies'
+    /// impacts at their time of impact (`rigid_replay`).
+    #[allow(clippy::too_many_arguments)]
+    fn run_rigid_replay(
+        &mut self,
+        frame: StepFrame,
+        mode: Mode,
+        narrow_phase: &NarrowPhase,
+        broad_phase: &BroadPhaseBvh,
+        bodies: &mut RigidBodySet,
+        colliders: &ColliderSet,
+        filter: PairFilter,
+    ) {
+        let input = RigidInput {
+            law: &self.law,
+            config: &self.config,
+            marks: &self.marks,
+            rigid: &self.prepare.rigid,
+            starts: &self.prepare.starts,
+            frame,
+            filter,
+            mode,
+        };
+        let mut out = RigidOutput {
+            log: &mut self.log,
+            woken: &mut self.prepare.woken,
+        };
+        self.rigid_replay
+            .run(&input, &mut out, bodies, colliders, narrow_phase, broad_phase);
     }
 
     /// The pairs rapier's solver bounced with the law's restitution (in
