@@ -560,8 +560,14 @@ impl Kimpact {
             log: &mut self.log,
             woken: &mut self.prepare.woken,
         };
-        self.rigid_replay
-            .run(&input, &mut out, bodies, colliders, narrow_phase, broad_phase);
+        self.rigid_replay.run(
+            &input,
+            &mut out,
+            bodies,
+            colliders,
+            narrow_phase,
+            broad_phase,
+        );
     }
 
     /// The pairs rapier's solver bounced with the law's restitution (in

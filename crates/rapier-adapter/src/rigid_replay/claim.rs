@@ -42,9 +42,8 @@ impl Claims {
             return false;
         };
         let n = *rigid.normal;
-        let relative = |point: Vector| {
-            point_velocity(bodies, rb2, point) - point_velocity(bodies, rb1, point)
-        };
+        let relative =
+            |point: Vector| point_velocity(bodies, rb2, point) - point_velocity(bodies, rb1, point);
         let (mut sum, mut count) = (Vector::ZERO, 0usize);
         for c in rigid.solver_contacts.iter() {
             let point = (c.anchor1 + c.anchor2) * 0.5;

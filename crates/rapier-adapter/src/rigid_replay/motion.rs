@@ -190,7 +190,11 @@ mod tests {
     fn a_path_between_two_poses_reaches_the_second_at_dt() {
         let com = Vector::splat(0.1);
         #[cfg(feature = "dim2")]
-        let (start, end, w) = (Pose::new(Vector::new(1.0, 2.0), 0.3), Pose::new(Vector::new(1.5, 1.0), 0.5), 10.0);
+        let (start, end, w) = (
+            Pose::new(Vector::new(1.0, 2.0), 0.3),
+            Pose::new(Vector::new(1.5, 1.0), 0.5),
+            10.0,
+        );
         #[cfg(feature = "dim3")]
         let (start, end, w) = (
             Pose::new(Vector::new(1.0, 2.0, 0.5), AngVector::new(0.1, 0.2, 0.3)),
@@ -201,7 +205,10 @@ mod tests {
         let motion = Motion::between(start, end, com, w, dt);
         let at = motion.pose_at(dt);
         let tol = 1e3 * Real::EPSILON;
-        assert!((at.translation - end.translation).length() < tol, "{at:?} {end:?}");
+        assert!(
+            (at.translation - end.translation).length() < tol,
+            "{at:?} {end:?}"
+        );
         assert!(((at * com) - (end * com)).length() < tol);
         let mid = motion.com_at(0.5 * dt);
         assert!((mid - 0.5 * (start * com + end * com)).length() < tol);

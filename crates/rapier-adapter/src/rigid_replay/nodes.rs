@@ -14,7 +14,13 @@ use super::{Key, Node, Pair, RigidInput, RigidReplay, toi_share};
 impl RigidReplay {
     /// The node of collider `ch` (its body's, or its own without a body),
     /// made on first use.
-    fn node(&mut self, input: &RigidInput, bodies: &RigidBodySet, colliders: &ColliderSet, ch: ColliderHandle) -> Option<usize> {
+    fn node(
+        &mut self,
+        input: &RigidInput,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        ch: ColliderHandle,
+    ) -> Option<usize> {
         let co = colliders.get(ch)?;
         let key = match co.parent() {
             Some(h) => Key::Body(h),
@@ -101,7 +107,11 @@ impl RigidReplay {
         c1: ColliderHandle,
         c2: ColliderHandle,
     ) -> Option<usize> {
-        let key = if c1.into_raw_parts() <= c2.into_raw_parts() { (c1, c2) } else { (c2, c1) };
+        let key = if c1.into_raw_parts() <= c2.into_raw_parts() {
+            (c1, c2)
+        } else {
+            (c2, c1)
+        };
         if c1 == c2 || self.paired.contains(&key) {
             return None;
         }
@@ -111,12 +121,23 @@ impl RigidReplay {
             return None;
         }
         self.paired.insert(key);
-        self.pairs.push(Pair { a, b, c1, c2, toi: None });
+        self.pairs.push(Pair {
+            a,
+            b,
+            c1,
+            c2,
+            toi: None,
+        });
         Some(self.pairs.len() - 1)
     }
 
     /// Collider `ch` on node `n` riding the node's path.
-    pub(super) fn mover<'a>(&'a self, colliders: &'a ColliderSet, n: usize, ch: ColliderHandle) -> Option<Mover<'a>> {
+    pub(super) fn mover<'a>(
+        &'a self,
+        colliders: &'a ColliderSet,
+        n: usize,
+        ch: ColliderHandle,
+    ) -> Option<Mover<'a>> {
         let co = colliders.get(ch)?;
         let node = &self.nodes[n];
         let offset = match node.key {
@@ -139,9 +160,9 @@ impl RigidReplay {
     pub(super) fn tolerance(&self, colliders: &ColliderSet, i: usize) -> Real {
         let p = &self.pairs[i];
         let radius = |ch| {
-            colliders
-                .get(ch)
-                .map_or(Real::INFINITY, |co: &Collider| co.shape().compute_local_bounding_sphere().radius())
+            colliders.get(ch).map_or(Real::INFINITY, |co: &Collider| {
+                co.shape().compute_local_bounding_sphere().radius()
+            })
         };
         toi_share() * radius(p.c1).min(radius(p.c2))
     }
@@ -149,12 +170,23 @@ impl RigidReplay {
     /// Pair `i`'s first time of impact in `[from, to]` (rewound into the
     /// previous step if it overlaps at `from` = 0, see
     /// [`time_of_impact`]).
-    pub(super) fn time_of_impact(&mut self, colliders: &ColliderSet, i: usize, from: Real, to: Real) -> Option<Real> {
+    pub(super) fn time_of_impact(
+        &mut self,
+        colliders: &ColliderSet,
+        i: usize,
+        from: Real,
+        to: Real,
+    ) -> Option<Real> {
         let p = self.pairs[i];
         let tolerance = self.tolerance(colliders, i);
         let mut manifolds = std::mem::take(&mut self.manifolds);
-        let toi = match (self.mover(colliders, p.a, p.c1), self.mover(colliders, p.b, p.c2)) {
-            (Some(a), Some(b)) => time_of_impact(&a, &b, from, to, tolerance, from == 0.0, &mut manifolds),
+        let toi = match (
+            self.mover(colliders, p.a, p.c1),
+            self.mover(colliders, p.b, p.c2),
+        ) {
+            (Some(a), Some(b)) => {
+                time_of_impact(&a, &b, from, to, tolerance, from == 0.0, &mut manifolds)
+            }
             _ => None,
         };
         self.manifolds = manifolds;
@@ -181,7 +213,17 @@ impl RigidReplay {
         };
         let falls = self.nodes[n].motion.linvel.dot(input.frame.gravity) > 0.0;
         if input.mode == crate::mode::Mode::Exact || falls {
-            self.sweep(input, bodies, colliders, narrow_phase, broad_phase, n, ch, 0.0, false);
+            self.sweep(
+                input,
+                bodies,
+                colliders,
+                narrow_phase,
+                broad_phase,
+                n,
+                ch,
+                0.0,
+                false,
+            );
         }
     }
 
@@ -200,7 +242,9 @@ impl RigidReplay {
         n: usize,
         t: Real,
     ) {
-        let Key::Body(h) = self.nodes[n].key else { return };
+        let Key::Body(h) = self.nodes[n].key else {
+            return;
+        };
         let Some(rb) = bodies.get(h) else { return };
         let fixed = input.config.fixed_partners;
         for &ch in rb.colliders() {
@@ -212,7 +256,17 @@ impl RigidReplay {
                     self.pairs[i].toi = self.time_of_impact(colliders, i, t, input.frame.dt);
                 }
             }
-            self.sweep(input, bodies, colliders, narrow_phase, broad_phase, n, ch, t, true);
+            self.sweep(
+                input,
+                bodies,
+                colliders,
+                narrow_phase,
+                broad_phase,
+                n,
+                ch,
+                t,
+                true,
+            );
         }
     }
 
@@ -240,7 +294,10 @@ impl RigidReplay {
             return;
         };
         let (p0, p1) = (mover.pose_at(t), mover.pose_at(dt));
-        let mut swept = co.shape().compute_aabb(&p0).merged(&co.shape().compute_aabb(&p1));
+        let mut swept = co
+            .shape()
+            .compute_aabb(&p0)
+            .merged(&co.shape().compute_aabb(&p1));
         // A turning body bulges out of its two boxes by at most its reach
         // times the turn.
         let turn = mover.motion.turn_speed(1.0) * (dt - t);
@@ -250,14 +307,24 @@ impl RigidReplay {
             broad_phase.as_query_pipeline(&dispatcher, bodies, colliders, QueryFilter::default());
         let mut met = std::mem::take(&mut self.met);
         met.clear();
-        met.extend(query.intersect_aabb_conservative(swept).map(|(other, _)| other));
+        met.extend(
+            query
+                .intersect_aabb_conservative(swept)
+                .map(|(other, _)| other),
+        );
         met.sort_unstable_by_key(|h| h.into_raw_parts());
         let fixed = input.config.fixed_partners;
         for &other in &met {
-            let Some(oc) = colliders.get(other) else { continue };
+            let Some(oc) = colliders.get(other) else {
+                continue;
+            };
             if other == ch
-                || !input.marks.governs_rigid(fixed, colliders, bodies, ch, other)
-                || !input.filter.admits(bodies, colliders, ch, co, other, oc, true)
+                || !input
+                    .marks
+                    .governs_rigid(fixed, colliders, bodies, ch, other)
+                || !input
+                    .filter
+                    .admits(bodies, colliders, ch, co, other, oc, true)
             {
                 continue;
             }

@@ -55,7 +55,9 @@ pub(crate) fn patch(
         let (p1, p2, n) = frame(m);
         for c in &m.points {
             let point = (p1 * c.local_p1 + p2 * c.local_p2) * 0.5;
-            if c.dist < best.map_or(Real::INFINITY, |b| b.1) && closes(point, n) {
+            // (parry may list a face's contacts beyond the prediction.)
+            if c.dist <= reach && c.dist < best.map_or(Real::INFINITY, |b| b.1) && closes(point, n)
+            {
                 best = Some((i, c.dist));
             }
         }
@@ -66,7 +68,7 @@ pub(crate) fn patch(
     let (mut sum, mut count) = (Vector::ZERO, 0usize);
     for c in &m.points {
         let point = (p1 * c.local_p1 + p2 * c.local_p2) * 0.5;
-        if c.dist <= deepest + depth && closes(point, n) {
+        if c.dist <= reach.min(deepest + depth) && closes(point, n) {
             sum += point;
             count += 1;
         }

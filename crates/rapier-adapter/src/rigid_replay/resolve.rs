@@ -53,7 +53,10 @@ impl RigidReplay {
         self.manifolds = manifolds;
         let found = found?;
         let (point, n) = (found.point, found.normal);
-        let (ua, ub) = (na.point_velocity(point, t, dt), nb.point_velocity(point, t, dt));
+        let (ua, ub) = (
+            na.point_velocity(point, t, dt),
+            nb.point_velocity(point, t, dt),
+        );
         let approach = -(ub - ua).dot(n);
         let floor = REST_FLOOR * (ua.length() + ub.length());
         if !(approach > input.frame.rest_speed.max(floor)) {

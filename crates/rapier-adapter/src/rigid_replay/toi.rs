@@ -75,7 +75,9 @@ fn gap(manifolds: &[ContactManifold<(), ()>]) -> Option<Real> {
     manifolds
         .iter()
         .flat_map(|m| m.points.iter().map(|p| p.dist))
-        .fold(None, |acc: Option<Real>, d| Some(acc.map_or(d, |a| a.min(d))))
+        .fold(None, |acc: Option<Real>, d| {
+            Some(acc.map_or(d, |a| a.min(d)))
+        })
 }
 
 /// How many halvings the rewind of an overlapping pair takes at most.
@@ -102,9 +104,23 @@ pub(crate) fn time_of_impact(
     }
     if rewind {
         let reach = tolerance.max(0.0);
-        manifolds_at(a.shape, &a.pose_at(from), b.shape, &b.pose_at(from), reach, manifolds);
+        manifolds_at(
+            a.shape,
+            &a.pose_at(from),
+            b.shape,
+            &b.pose_at(from),
+            reach,
+            manifolds,
+        );
         if gap(manifolds).is_some_and(|d| d < -tolerance) {
-            return Some(rewound(a, b, from, from - (to - from), tolerance, manifolds));
+            return Some(rewound(
+                a,
+                b,
+                from,
+                from - (to - from),
+                tolerance,
+                manifolds,
+            ));
         }
     }
     let dispatcher = DefaultQueryDispatcher;
@@ -133,7 +149,14 @@ pub(crate) fn time_of_impact(
     let mut t = start;
     for _ in 0..MAX_ADVANCES {
         let reach = bound * (to - t) + tolerance;
-        manifolds_at(a.shape, &a.pose_at(t), b.shape, &b.pose_at(t), reach, manifolds);
+        manifolds_at(
+            a.shape,
+            &a.pose_at(t),
+            b.shape,
+            &b.pose_at(t),
+            reach,
+            manifolds,
+        );
         let d = gap(manifolds)?;
         if d <= tolerance {
             return Some(t);
@@ -165,7 +188,14 @@ fn rewound(
         + b.turn_bound() * (from - back)
         + tolerance;
     let mut apart = |t: Real, manifolds: &mut Vec<ContactManifold<(), ()>>| {
-        manifolds_at(a.shape, &a.pose_at(t), b.shape, &b.pose_at(t), reach, manifolds);
+        manifolds_at(
+            a.shape,
+            &a.pose_at(t),
+            b.shape,
+            &b.pose_at(t),
+            reach,
+            manifolds,
+        );
         gap(manifolds).is_none_or(|d| d > 0.0)
     };
     if !apart(back, manifolds) {
