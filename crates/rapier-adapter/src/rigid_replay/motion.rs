@@ -150,36 +150,6 @@ pub(crate) fn from_law_angular(w: &kimpact::Angular<Real, { crate::math::DIM }>)
     AngVector::new(w[0], w[1], w[2])
 }
 
-/// The world inverse inertia `inverse`, given at orientation `from`, at
-/// orientation `to` (2D: unchanged).
-#[cfg(feature = "dim2")]
-pub(crate) fn turn_inverse_inertia(
-    inverse: &kimpact::InverseInertia<Real, { crate::math::DIM }>,
-    _from: &Pose,
-    _to: &Pose,
-) -> kimpact::InverseInertia<Real, { crate::math::DIM }> {
-    *inverse
-}
-
-/// The world inverse inertia `inverse`, given at orientation `from`, at
-/// orientation `to`: `R I⁻¹ Rᵀ` with `R` the turn from `from` to `to`.
-#[cfg(feature = "dim3")]
-pub(crate) fn turn_inverse_inertia(
-    inverse: &kimpact::InverseInertia<Real, { crate::math::DIM }>,
-    from: &Pose,
-    to: &Pose,
-) -> kimpact::InverseInertia<Real, { crate::math::DIM }> {
-    let q = to.rotation * from.rotation.inverse();
-    let m = crate::rapier::math::Matrix::from_quat(q);
-    let r = nalgebra::Matrix3::new(
-        m.x_axis.x, m.y_axis.x, m.z_axis.x, m.x_axis.y, m.y_axis.y, m.z_axis.y, m.x_axis.z,
-        m.y_axis.z, m.z_axis.z,
-    );
-    let turned = r * inverse * r.transpose();
-    // Symmetric to the bit, as the law's check asks.
-    (turned + turned.transpose()) * 0.5
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -38,7 +38,6 @@ impl RigidReplay {
                 omega: super::motion::zero_angvel(),
                 g_dt: Vector::ZERO,
                 g_half: Vector::ZERO,
-                end_pose: *co.position(),
                 inverse_inertia: Default::default(),
                 hit: false,
             },
@@ -92,7 +91,6 @@ impl RigidReplay {
             omega: rb.angvel(),
             g_dt: g * dt,
             g_half: g * input.frame.half_substep(rb),
-            end_pose: end,
             inverse_inertia: inverse_inertia(rb),
             hit: false,
         }

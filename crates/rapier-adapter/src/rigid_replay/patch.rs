@@ -62,7 +62,15 @@ pub(crate) fn patch(
             }
         }
     }
-    let (i, deepest) = best?;
+    let Some((i, deepest)) = best else {
+        let listed = manifolds
+            .iter()
+            .any(|m| m.points.iter().any(|c| c.dist <= reach));
+        if listed {
+            return None;
+        }
+        return single_contact(a, pa, b, pb, reach, closes);
+    };
     let m = &manifolds[i];
     let (p1, p2, n) = frame(m);
     let (mut sum, mut count) = (Vector::ZERO, 0usize);
@@ -77,5 +85,27 @@ pub(crate) fn patch(
         point: sum / count as Real,
         normal: n,
         gap: deepest,
+    })
+}
+
+/// Where the manifolds list no contact at all (parry's segment against a
+/// box lists none with an end within 1e-8 of the face): parry's single
+/// contact query, if it closes.
+fn single_contact(
+    a: &dyn Shape,
+    pa: &Pose,
+    b: &dyn Shape,
+    pb: &Pose,
+    reach: Real,
+    closes: impl Fn(Vector, Vector) -> bool,
+) -> Option<Patch> {
+    // World space, both points and the normal.
+    let contact = crate::rapier::parry::query::contact(pa, a, pb, b, reach).ok()??;
+    let point = (contact.point1 + contact.point2) * 0.5;
+    let normal = contact.normal1;
+    closes(point, normal).then_some(Patch {
+        point,
+        normal,
+        gap: contact.dist,
     })
 }

@@ -3,7 +3,11 @@
 //! (`cast_shapes_nonlinear`) for the pairs it supports, then conservative
 //! advancement on the distance of the pair's contact manifold (parry's
 //! `contact_manifolds`, which takes every pair rapier's narrow phase takes:
-//! heightfields too) until the gap is within the tolerance.
+//! heightfields too) until the gap is within the tolerance. parry's cast
+//! only gives the advancement a head start: its "no impact" is checked by
+//! the advancement (it steps over the contact of a rod turning fast from
+//! flat), and it answers "no impact" for a composite shape against a
+//! heightfield, which the advancement alone takes.
 
 use crate::math::{Pose, Real};
 use crate::rapier::parry::query::{
@@ -69,6 +73,23 @@ pub(crate) fn manifolds_at(
     }
 }
 
+/// parry's distance of `a` (at `pa`) and `b` (at `pb`) if within `reach`:
+/// where a manifold lists no contact (parry's segment against a box, an end
+/// within 1e-8 of the face).
+pub(crate) fn distance(
+    a: &dyn Shape,
+    pa: &Pose,
+    b: &dyn Shape,
+    pb: &Pose,
+    reach: Real,
+) -> Option<Real> {
+    let d = DefaultQueryDispatcher
+        .distance(&pa.inv_mul(pb), a, b)
+        .ok()?
+        .distance;
+    (d <= reach).then_some(d)
+}
+
 /// The smallest distance of the manifolds' contacts (negative: overlap),
 /// `None` without contacts.
 fn gap(manifolds: &[ContactManifold<(), ()>]) -> Option<Real> {
@@ -131,6 +152,12 @@ pub(crate) fn time_of_impact(
             None => nonlinear,
         }
     };
+    // parry's cast answers `None` for a composite shape against a shape it
+    // cannot cast (a heightfield): conservative advancement alone then.
+    let castable = |s: &dyn Shape| s.as_heightfield().is_none() && s.as_voxels().is_none();
+    if !(castable(a.shape) && castable(b.shape)) {
+        return advance(a, b, from, to, tolerance, manifolds).map(|(t, _)| t);
+    }
     let start = match dispatcher.cast_shapes_nonlinear(
         &motion(a),
         a.shape,
@@ -140,10 +167,33 @@ pub(crate) fn time_of_impact(
         to - from,
         true,
     ) {
-        Ok(None) => return None,
+        // parry's conservative advancement can step over a contact (a rod
+        // turning fast from flat): its "none" is checked from `from`.
+        Ok(None) | Err(_) => from,
         Ok(Some(hit)) => from + hit.time_of_impact.clamp(0.0, to - from),
-        Err(_) => from,
     };
+    match advance(a, b, start, to, tolerance, manifolds) {
+        // parry stopped past the contact (overlapping, or a manifold too
+        // deep to list): advanced from `from` instead.
+        found if start > from && found.is_none_or(|(_, d)| d < -tolerance) => {
+            advance(a, b, from, to, tolerance, manifolds).map(|(t, _)| t)
+        }
+        found => found.map(|(t, _)| t),
+    }
+}
+
+/// Conservative advancement from `start` (apart or touching then) to the
+/// first time in `[start, to]` the gap of `a` and `b` is within `tolerance`
+/// (with the gap then): steps of the gap over the largest speed at which
+/// it can close.
+fn advance(
+    a: &Mover,
+    b: &Mover,
+    start: Real,
+    to: Real,
+    tolerance: Real,
+    manifolds: &mut Vec<ContactManifold<(), ()>>,
+) -> Option<(Real, Real)> {
     // What the two close by at most per unit of time.
     let bound = (a.motion.linvel - b.motion.linvel).length() + a.turn_bound() + b.turn_bound();
     let mut t = start;
@@ -157,9 +207,10 @@ pub(crate) fn time_of_impact(
             reach,
             manifolds,
         );
-        let d = gap(manifolds)?;
+        let (pa, pb) = (a.pose_at(t), b.pose_at(t));
+        let d = gap(manifolds).or_else(|| distance(a.shape, &pa, b.shape, &pb, reach))?;
         if d <= tolerance {
-            return Some(t);
+            return Some((t, d));
         }
         if !(bound > 0.0) {
             return None;
@@ -169,7 +220,7 @@ pub(crate) fn time_of_impact(
             return None;
         }
     }
-    Some(t)
+    Some((t, 0.0))
 }
 
 /// The last instant in `[back, from]` at which `a` and `b`, overlapping at
@@ -187,7 +238,7 @@ fn rewound(
         + a.turn_bound() * (from - back)
         + b.turn_bound() * (from - back)
         + tolerance;
-    let mut apart = |t: Real, manifolds: &mut Vec<ContactManifold<(), ()>>| {
+    let apart = |t: Real, manifolds: &mut Vec<ContactManifold<(), ()>>| {
         manifolds_at(
             a.shape,
             &a.pose_at(t),
