@@ -59,7 +59,7 @@ impl RigidReplay {
         );
         let approach = -(ub - ua).dot(n);
         let floor = REST_FLOOR * (ua.length() + ub.length());
-        if !(approach > input.frame.rest_speed.max(floor)) {
+        if !(approach > input.frame.rest_speed.max(floor) && approach.is_finite()) {
             return None;
         }
         // The masses as the law takes them (locked translations, dominance).

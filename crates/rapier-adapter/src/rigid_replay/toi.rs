@@ -120,7 +120,7 @@ pub(crate) fn time_of_impact(
     rewind: bool,
     manifolds: &mut Vec<ContactManifold<(), ()>>,
 ) -> Option<Real> {
-    if !(from <= to) {
+    if from.is_nan() || to.is_nan() || from > to {
         return None;
     }
     if rewind {
@@ -212,7 +212,7 @@ fn advance(
         if d <= tolerance {
             return Some((t, d));
         }
-        if !(bound > 0.0) {
+        if bound.is_nan() || bound <= 0.0 {
             return None;
         }
         t += d / bound;
