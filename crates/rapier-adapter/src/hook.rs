@@ -265,8 +265,9 @@ impl StepHooks<'_> {
         Some((b1, b2))
     }
 
-    /// Every law mode, a pair with a marked collider of another shape than
-    /// a centred ball on a dynamic body: the law's restitution for the two
+    /// A pair with a marked collider of another shape than a centred ball
+    /// on a dynamic body, in restitution mode (in impulse and exact mode,
+    /// one the rigid replay did not claim): the law's restitution for the two
     /// as rigid bodies at the manifold's contact, written into the manifold
     /// for rapier's solver. The contact is the centroid of the solver
     /// contacts whose material points close (their velocities at the start
@@ -276,9 +277,8 @@ impl StepHooks<'_> {
     /// that close). No bounce when the contact points close at most at the
     /// rest speed. With impact friction, the manifold's friction
     /// coefficient is the pair's `μ` for a fresh impact. The pair is never
-    /// the replay's (which moves bodies as points, in impulse and exact
-    /// mode too) and has no graze test (its cast is linear, the bodies
-    /// turn).
+    /// the point replay's (which moves bodies as points) and has no graze
+    /// test (its cast is linear, the bodies turn).
     fn respond_rigid(&self, context: &mut ContactModificationContext, frame: &StepFrame) {
         let (bodies, rb1, rb2) = (context.bodies, context.rigid_body1, context.rigid_body2);
         let (c1, c2) = (context.collider1, context.collider2);

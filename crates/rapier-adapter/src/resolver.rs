@@ -193,12 +193,15 @@ impl Kimpact {
     /// Whether it is one is read when marking: mark again after changing
     /// the shape. A marked collider of any other shape on a dynamic body
     /// follows the law for rigid bodies (`kimpact::Law::resolve_rigid`) in
-    /// every law mode: the restitution of its impacts is the law's at the
-    /// manifold's contact (the centroid of its solver contacts, which
+    /// every law mode. In `Impulse` and `Exact` its impacts are replayed
+    /// at their time of impact along the motion rapier gave the bodies (at
+    /// the centroid of the contact patch there); in `Restitution` (and in
+    /// the others for a contact that also touches without closing, a box
+    /// rocking on a corner) the restitution of its impacts is the law's at
+    /// the manifold's contact (the centroid of its solver contacts, which
     /// rapier's solver then takes as one), with the effective mass of both
-    /// bodies there, applied by rapier's solver and reported (no replay at
-    /// the time of impact). As a fixed or kinematic partner any shape
-    /// follows the law.
+    /// bodies there, applied by rapier's solver and reported. As a fixed or
+    /// kinematic partner any shape follows the law.
     ///
     /// # Errors
     /// [`HandleError::UnknownCollider`] when `collider` is not in
@@ -448,9 +451,11 @@ impl Kimpact {
     /// impacts in time order (positions and velocities of the bodies it
     /// bends are written into `bodies`): every impact governed by the point
     /// law in `Impulse` and `Exact` mode, those of the bodies too fast for
-    /// rapier's contacts in `Restitution` mode; and the report of the
-    /// impacts rapier's solver bounced with the law's restitution (every
-    /// mode's rigid bodies, restitution mode's slow balls). Fills
+    /// rapier's contacts in `Restitution` mode; then, in `Impulse` and
+    /// `Exact` mode, the rigid bodies' impacts (the rigid replay, with
+    /// rotation); and the report of the impacts rapier's solver bounced with
+    /// the law's restitution (restitution mode's rigid bodies and slow
+    /// balls, the rigid contacts the other modes leave to it). Fills
     /// [`Kimpact::events`] and [`Kimpact::stats`].
     ///
     /// Takes rapier's sets as its step left them, and the user's hooks

@@ -89,6 +89,7 @@ impl Motion {
 /// The rotation angle (2D) taking `start` to `end`, the one nearest
 /// `angvel dt`.
 #[cfg(feature = "dim2")]
+#[allow(clippy::unnecessary_cast)] // f64's π is the f64 build's `Real`
 fn turn_between(start: &Pose, end: &Pose, angvel: AngVector, dt: Real) -> AngVector {
     use std::f64::consts::PI;
     let expected = angvel * dt;
