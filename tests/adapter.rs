@@ -15,6 +15,7 @@ mod d2 {
     include!("cases/rigid.rs");
     include!("cases/rigid_dim2.rs");
     include!("cases/rigid_modes.rs");
+    include!("cases/rigid_replay.rs");
     include!("cases/contract.rs");
     include!("cases/user_worlds.rs");
     include!("cases/settings.rs");
@@ -34,6 +35,7 @@ mod d3 {
     include!("cases/rigid.rs");
     include!("cases/rigid_dim3.rs");
     include!("cases/rigid_modes.rs");
+    include!("cases/rigid_replay.rs");
     include!("cases/contract.rs");
     include!("cases/user_worlds.rs");
     include!("cases/settings.rs");
@@ -53,6 +55,7 @@ mod d2_f64 {
     include!("cases/rigid.rs");
     include!("cases/rigid_dim2.rs");
     include!("cases/rigid_modes.rs");
+    include!("cases/rigid_replay.rs");
     include!("cases/contract.rs");
     include!("cases/user_worlds.rs");
     include!("cases/settings.rs");
@@ -79,6 +82,7 @@ mod d3_f64 {
     include!("cases/rigid.rs");
     include!("cases/rigid_dim3.rs");
     include!("cases/rigid_modes.rs");
+    include!("cases/rigid_replay.rs");
     include!("cases/contract.rs");
     include!("cases/user_worlds.rs");
     include!("cases/settings.rs");
@@ -90,6 +94,11 @@ mod d3_f64 {
     #[test]
     fn exact_elastic_gas_keeps_its_energy_for_10000_steps() {
         exact_gas_check();
+    }
+
+    #[test]
+    fn exact_elastic_dice_keep_their_energy_for_10000_steps() {
+        dice_check(10_000);
     }
 }
 

@@ -14,3 +14,12 @@ fn heightfield_floor() -> ColliderBuilder {
     scale[1] = 1.0;
     ColliderBuilder::heightfield(vec![0.0; 5], scale).friction(0.0)
 }
+
+/// A fixed heightfield valley: x in [−2, 2], its top at y = 0.5 at both
+/// ends and 0 at x = 0 (a vertex between two slopes), frictionless.
+fn valley_heightfield() -> ColliderBuilder {
+    let mut scale = Vector::ZERO;
+    scale[0] = 4.0;
+    scale[1] = 1.0;
+    ColliderBuilder::heightfield(vec![0.5, 0.0, 0.5], scale).friction(0.0)
+}

@@ -15,3 +15,12 @@ fn heightfield_floor() -> ColliderBuilder {
     let heights = k::rapier::parry::utils::Array2::new(3, 3, vec![0.0; 9]);
     ColliderBuilder::heightfield(heights, Vector::new(4.0, 1.0, 4.0)).friction(0.0)
 }
+
+/// A fixed heightfield valley along z: x and z in [−2, 2], its top at
+/// y = 0.5 at x = ±2 and 0 along x = 0 (an edge between two slopes),
+/// frictionless.
+fn valley_heightfield() -> ColliderBuilder {
+    let heights = vec![0.5, 0.5, 0.5, 0.0, 0.0, 0.0, 0.5, 0.5, 0.5];
+    let heights = k::rapier::parry::utils::Array2::new(3, 3, heights);
+    ColliderBuilder::heightfield(heights, Vector::new(4.0, 1.0, 4.0)).friction(0.0)
+}

@@ -22,11 +22,13 @@ pub struct ImpactEvent {
     /// it (see `by_solver`).
     pub time: Real,
     /// `true` when rapier's solver applied the law's restitution for this
-    /// impact (in every law mode, a pair with a marked collider of another
-    /// shape than a ball centred on a dynamic body; in `Restitution` mode,
-    /// also a pair of balls slower than a quarter of their size per step):
-    /// rapier's contact impulses include it. `false` when kimpact changed
-    /// the velocities itself.
+    /// impact (in `Restitution` mode, a pair with a marked collider of
+    /// another shape than a ball centred on a dynamic body, and a pair of
+    /// balls slower than a quarter of their size per step; in `Impulse` and
+    /// `Exact` mode, such a rigid pair whose contacts also touch without
+    /// closing, as a box rocking on a corner): rapier's contact impulses
+    /// include it. `false` when kimpact changed the velocities itself (the
+    /// replays, at the time of impact).
     pub by_solver: bool,
     /// The contact point (world space) at the impact.
     pub point: Vector,

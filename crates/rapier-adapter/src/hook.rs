@@ -14,6 +14,7 @@ use crate::math::{Real, Vector};
 use crate::policy::{Policy, Response};
 use crate::prepare::Prepare;
 use crate::rapier::prelude::*;
+use crate::rigid_replay::Claims;
 use crate::rigid_view::point_velocity;
 
 /// The [`PhysicsHooks`] of one step, from [`crate::Kimpact::hooks`]: pass it
@@ -34,6 +35,8 @@ pub struct StepHooks<'a> {
     /// ([`Prepare::is_crowded`]).
     pub(crate) prepare: &'a Prepare,
     pub(crate) candidates: &'a Candidates,
+    /// The rigid replay's pairs (impulse and exact mode).
+    pub(crate) claims: &'a Claims,
     /// Pairs cut off by the runtime guard this step.
     pub(crate) guarded: &'a AtomicU64,
     pub(crate) user: &'a dyn PhysicsHooks,
@@ -109,8 +112,16 @@ impl StepHooks<'_> {
         let partners = self.policy.partners;
         if self.marks.governs(partners, colliders, bodies, c1, c2) {
             self.respond_point(context);
-        } else if self.marks.governs_rigid(partners, colliders, bodies, c1, c2) {
-            self.respond_rigid(context);
+        } else if self
+            .marks
+            .governs_rigid(partners, colliders, bodies, c1, c2)
+        {
+            // Impulse and exact mode: an impact is the rigid replay's.
+            let replayed =
+                self.policy.replays_rigid() && self.claims.claim(context, self.frame.rest_speed);
+            if !replayed {
+                self.respond_rigid(context);
+            }
         }
     }
 
@@ -272,8 +283,9 @@ impl StepHooks<'_> {
         Some((b1, b2))
     }
 
-    /// Every law mode, a pair with a marked collider of another shape than
-    /// a centred ball on a dynamic body: the law's restitution for the two
+    /// A pair with a marked collider of another shape than a centred ball
+    /// on a dynamic body, in restitution mode (in impulse and exact mode,
+    /// one the rigid replay did not claim): the law's restitution for the two
     /// as rigid bodies at the manifold's contact, written into the manifold
     /// for rapier's solver. The contact is the centroid of the solver
     /// contacts whose material points close (their velocities at the start
@@ -283,9 +295,8 @@ impl StepHooks<'_> {
     /// that close). No bounce when the contact points close at most at the
     /// rest speed. With impact friction, the manifold's friction
     /// coefficient is the pair's `μ` for a fresh impact. The pair is never
-    /// the replay's (which moves bodies as points, in impulse and exact
-    /// mode too) and has no graze test (its cast is linear, the bodies
-    /// turn).
+    /// the point replay's (which moves bodies as points) and has no graze
+    /// test (its cast is linear, the bodies turn).
     fn respond_rigid(&self, context: &mut ContactModificationContext) {
         let frame = &self.frame;
         let (bodies, rb1, rb2) = (context.bodies, context.rigid_body1, context.rigid_body2);

@@ -54,6 +54,7 @@ pub use kimpact::{FixedPartner, ImpactFriction, Law, LawError, LawParams, Precis
 // rigid_view                    how the law sees a rotating body at a contact
 // calm, prepare                 stage 1: hook flags and starts
 // replay                        stages 1 and 3: impacts in time order
+// rigid_replay                  stage 3: rigid bodies' impacts in time order
 // hook                          stage 2: the contact hook
 // snapshot                      the saved form of a resolver's state
 // resolver                      Kimpact: the public resolver and its stages
@@ -77,6 +78,7 @@ pub mod prelude;
 mod prepare;
 mod replay;
 mod resolver;
+mod rigid_replay;
 mod rigid_view;
 mod snapshot;
 mod sweep_grid;

@@ -40,6 +40,20 @@ pub(crate) struct Reach {
     pub chain_share: Real,
 }
 
+/// Which moving rigid bodies the rigid replay sweeps for partners that
+/// rapier's contacts did not reach.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub(crate) enum RigidSweep {
+    /// None: there is no rigid replay (native and restitution mode).
+    Nobody,
+    /// Those that fall (move along gravity): a landing rapier's contacts
+    /// did not see coming is resolved at its time, not rewound from an
+    /// overlap (impulse mode).
+    Falling,
+    /// Every one (exact mode).
+    Every,
+}
+
 /// What kimpact does in one step.
 #[derive(Copy, Clone, Debug)]
 pub(crate) struct Policy {
@@ -49,6 +63,8 @@ pub(crate) struct Policy {
     pub reach: Reach,
     /// Which pairs of a marked collider the law governs.
     pub partners: Partners,
+    /// Which rigid bodies the rigid replay sweeps.
+    pub rigid_sweep: RigidSweep,
 }
 
 impl Policy {
@@ -73,16 +89,24 @@ impl Policy {
     /// like any other, whose pairs rapier's solver bounces.
     pub(crate) fn new(mode: Mode, config: &ResolverConfig, frame: &StepFrame) -> Self {
         let prediction = frame.prediction;
-        let (response, sweep, fall, chain_share) = match mode {
-            Mode::Native => (Response::Rapier, 0.0, 0.0, 0.0),
+        let half = 0.5 * prediction;
+        let (response, sweep, fall, chain_share, rigid_sweep) = match mode {
+            Mode::Native => (Response::Rapier, 0.0, 0.0, 0.0, RigidSweep::Nobody),
             Mode::Restitution => (
                 Response::SolverAndFastReplay,
                 0.0,
                 0.0,
                 crate::body_view::SWEPT_SHARE,
+                RigidSweep::Nobody,
             ),
-            Mode::Impulse => (Response::Replay, Real::INFINITY, 0.5 * prediction, 0.0),
-            Mode::Exact => (Response::Replay, 0.5 * prediction, 0.5 * prediction, 0.0),
+            Mode::Impulse => (
+                Response::Replay,
+                Real::INFINITY,
+                half,
+                0.0,
+                RigidSweep::Falling,
+            ),
+            Mode::Exact => (Response::Replay, half, half, 0.0, RigidSweep::Every),
         };
         Self {
             response,
@@ -92,6 +116,7 @@ impl Policy {
                 chain_share,
             },
             partners: Partners::of(config.fixed_partners),
+            rigid_sweep,
         }
     }
 
@@ -105,5 +130,12 @@ impl Policy {
     /// only the fast bodies' pairs over, and tests the others for grazes).
     pub(crate) fn notes_fast_bodies(&self) -> bool {
         self.response == Response::SolverAndFastReplay
+    }
+
+    /// Whether the rigid replay resolves the impacts of rigid bodies
+    /// (impulse and exact mode) after the point replay; otherwise rapier's
+    /// solver bounces them with the law's restitution.
+    pub(crate) fn replays_rigid(&self) -> bool {
+        self.response == Response::Replay
     }
 }

@@ -102,8 +102,9 @@ pub(crate) struct Prepare {
     /// Extended colliders of dynamic bodies (not balls centred on their
     /// body, see `marks::is_point_collider`) whose hook flag we set this
     /// step: the hook governs their pairs as rigid bodies at the manifold's
-    /// contact in every law mode, and the replay, which moves bodies as
-    /// points, never sweeps them.
+    /// contact in restitution mode (the rigid replay's, in impulse and exact
+    /// mode), and the point replay, which moves bodies as points, never
+    /// sweeps them.
     pub rigid: Vec<ColliderHandle>,
     /// Scratch of `run`: last step's `flagged`.
     previous: Vec<ColliderHandle>,

@@ -19,6 +19,7 @@ use crate::policy::{Policy, Response};
 use crate::prepare::{Prepare, PrepareInput};
 use crate::rapier::prelude::*;
 use crate::replay::{Replay, ReplayInput, ReplayOutput, ReplaySets};
+use crate::rigid_replay::{RigidInput, RigidOutput, RigidReplay};
 use crate::snapshot::{Saving, Snapshot, SnapshotError};
 
 /// A collider handle that is not in the collider set it was checked
@@ -90,6 +91,9 @@ pub struct Kimpact {
     /// This step's events and the totals.
     log: EventLog,
     replay: Replay,
+    /// Impulse and exact mode: the rigid bodies' impacts at their time of
+    /// impact.
+    rigid_replay: RigidReplay,
 }
 
 /// The user's state (law, mode, configuration, how many colliders are
@@ -137,6 +141,7 @@ impl Kimpact {
             guarded: AtomicU64::new(0),
             log: EventLog::default(),
             replay: Replay::default(),
+            rigid_replay: RigidReplay::default(),
         }
     }
 
@@ -190,12 +195,15 @@ impl Kimpact {
     /// Whether it is one is read when marking: mark again after changing
     /// the shape. A marked collider of any other shape on a dynamic body
     /// follows the law for rigid bodies (`kimpact::Law::resolve_rigid`) in
-    /// every law mode: the restitution of its impacts is the law's at the
-    /// manifold's contact (the centroid of its solver contacts, which
+    /// every law mode. In `Impulse` and `Exact` its impacts are replayed
+    /// at their time of impact along the motion rapier gave the bodies (at
+    /// the centroid of the contact patch there); in `Restitution` (and in
+    /// the others for a contact that also touches without closing, a box
+    /// rocking on a corner) the restitution of its impacts is the law's at
+    /// the manifold's contact (the centroid of its solver contacts, which
     /// rapier's solver then takes as one), with the effective mass of both
-    /// bodies there, applied by rapier's solver and reported (no replay at
-    /// the time of impact). As a fixed or kinematic partner any shape
-    /// follows the law.
+    /// bodies there, applied by rapier's solver and reported. As a fixed or
+    /// kinematic partner any shape follows the law.
     ///
     /// # Errors
     /// [`HandleError::UnknownCollider`] when `collider` is not in
@@ -442,6 +450,8 @@ impl Kimpact {
         };
         self.log.stats.calm_bodies += self.prepare.run(&input, colliders);
         self.prepare.wake_moving(bodies);
+        self.rigid_replay
+            .begin(policy, &self.prepare.rigid, bodies, colliders);
         PreparedStep { frame, policy }
     }
 
@@ -467,6 +477,7 @@ impl Kimpact {
             marks: &self.marks,
             prepare: &self.prepare,
             candidates: &self.candidates,
+            claims: &self.rigid_replay.claims,
             guarded: &self.guarded,
             user,
         }
@@ -476,9 +487,11 @@ impl Kimpact {
     /// impacts in time order (positions and velocities of the bodies it
     /// bends are written into `bodies`): every impact governed by the point
     /// law in `Impulse` and `Exact` mode, those of the bodies too fast for
-    /// rapier's contacts in `Restitution` mode; and the report of the
-    /// impacts rapier's solver bounced with the law's restitution (every
-    /// mode's rigid bodies, restitution mode's slow balls). Fills
+    /// rapier's contacts in `Restitution` mode; then, in `Impulse` and
+    /// `Exact` mode, the rigid bodies' impacts (the rigid replay, with
+    /// rotation); and the report of the impacts rapier's solver bounced with
+    /// the law's restitution (restitution mode's rigid bodies and slow
+    /// balls, the rigid contacts the other modes leave to it). Fills
     /// [`Kimpact::events`] and [`Kimpact::stats`].
     ///
     /// Takes rapier's sets as its step left them, and the user's hooks
@@ -542,6 +555,49 @@ impl Kimpact {
             broad_phase,
         };
         self.replay.run(&input, sets, &mut out);
+        if policy.replays_rigid() {
+            let filter = PairFilter::new(impulse_joints, multibody_joints, hooks);
+            let sets = ReplaySets {
+                bodies,
+                colliders,
+                narrow_phase,
+                broad_phase,
+            };
+            self.run_rigid_replay(frame, policy, sets, filter);
+        }
+    }
+
+    /// Impulse and exact mode, after the ball replay: the rigid bodies'
+    /// impacts at their time of impact (`rigid_replay`).
+    fn run_rigid_replay(
+        &mut self,
+        frame: StepFrame,
+        policy: Policy,
+        sets: ReplaySets,
+        filter: PairFilter,
+    ) {
+        let input = RigidInput {
+            law: &self.law,
+            config: &self.config,
+            marks: &self.marks,
+            rigid: &self.prepare.rigid,
+            starts: &self.prepare.starts,
+            frame,
+            filter,
+            policy,
+        };
+        let mut out = RigidOutput {
+            log: &mut self.log,
+            woken: &mut self.prepare.woken,
+        };
+        self.rigid_replay.run(
+            &input,
+            &mut out,
+            sets.bodies,
+            sets.colliders,
+            sets.narrow_phase,
+            sets.broad_phase,
+        );
     }
 
     /// The pairs rapier's solver bounced with the law's restitution (in

@@ -9,9 +9,9 @@ use crate::config::ResolverConfig;
 use crate::events::EventLog;
 use crate::frame::StepFrame;
 use crate::marks::{Marks, Partners};
-use crate::policy::{Policy, Reach};
 use crate::math::{Real, Vector};
 use crate::pair_filter::PairFilter;
+use crate::policy::{Policy, Reach};
 use crate::rapier::prelude::*;
 
 /// What a replay run reads: the law, the step's policy, the settings and marks in

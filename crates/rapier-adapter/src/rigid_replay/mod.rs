@@ -1,0 +1,380 @@
+//! The rigid replay (impulse and exact mode): the impacts of marked
+//! colliders of another shape than a ball centred on a dynamic body (and
+//! of their partners) resolved at their time of impact along the motion
+//! rapier gave the bodies over the step, after rapier's step.
+//!
+//! The contact hook claims such a pair ([`Claims::claim`]) when its
+//! contacts meet as an impact, and clears its solver contacts: rapier's
+//! solver does not respond to it, and integrates the two bodies as if
+//! they did not touch. After the step each body involved moves, over the
+//! step, on rapier's motion: its centre of mass on the straight line from
+//! its start to its end, turning about it at a constant angular velocity
+//! from its start orientation to its end one ([`motion::Motion`]). Exact
+//! mode also sweeps every moving rigid body (`Prepare::rigid`) for
+//! partners rapier's contacts did not reach yet. Then, event by event,
+//! earliest first: the pair's time of impact ([`toi::time_of_impact`]),
+//! its contact patch there ([`patch::patch`]: the centroid of the closing
+//! contacts of the manifold, so a face lands at its centre), the law
+//! ([`kimpact::Law::resolve_rigid_with_friction`]) at that point with the
+//! bodies' velocities at that instant, the two paths bent there, the
+//! bodies' neighbours (their rapier contact pairs, and what a sweep along
+//! the new path reaches) brought in, and the times of impact of every pair
+//! of the two bodies found again from that instant. At the end each body
+//! whose path was bent gets the pose its path reaches at the step's end
+//! and its velocities: rapier's end-of-step velocities plus the changes.
+//!
+//! The law meets a body at time `t` with the velocity its path has then
+//! under gravity, as the ball replay does (rapier's end-of-step velocity,
+//! less gravity over the rest of the step, plus gravity over half a
+//! substep), and with its angular velocity and its world inverse inertia
+//! turned to its orientation at `t`.
+//!
+//! A ball centred on its dynamic body meeting a governed rigid body: the
+//! pair is this replay's (the ball is a rigid body of zero arm here), and
+//! runs after the ball replay, on the path the ball replay left the ball
+//! (from its start to the end the ball replay wrote).
+
+mod claim;
+mod motion;
+mod nodes;
+mod patch;
+mod resolve;
+mod toi;
+
+use std::collections::{HashMap, HashSet};
+
+use kimpact::Law;
+
+use crate::body_view::Starts;
+use crate::config::ResolverConfig;
+use crate::events::EventLog;
+use crate::frame::StepFrame;
+use crate::marks::Marks;
+use crate::math::{Pose, Real, Vector};
+use crate::pair_filter::PairFilter;
+use crate::policy::Policy;
+use crate::rapier::math::AngVector;
+use crate::rapier::parry::query::ContactManifold;
+use crate::rapier::prelude::*;
+use crate::rigid_view::LawRigid;
+
+pub(crate) use claim::Claims;
+use motion::Motion;
+
+/// The time-of-impact tolerance, relative to the pair's size: the gap at
+/// which two colliders are taken as touching, `ε^(2/3)` (3.7e-11 in f64,
+/// 4.9e-5 in f32).
+fn toi_share() -> Real {
+    Real::EPSILON.powf(2.0 / 3.0)
+}
+
+/// Contacts within this many time-of-impact tolerances of the deepest
+/// closing one are in its patch.
+const PATCH_TOLERANCES: Real = 4.0;
+
+/// Approach speeds below this times the sum of the two bodies' speeds are
+/// resting contacts: rounding level.
+const REST_FLOOR: Real = 64.0 * Real::EPSILON;
+
+/// What the rigid replay reads: the law, the settings and marks in force,
+/// the moving rigid colliders of the step (`Prepare::rigid`), where the
+/// bodies started it (`Prepare::starts`, translations), the step's
+/// constants, the pair filter and what the step's mode does.
+pub(crate) struct RigidInput<'a> {
+    pub law: &'a Law<Real>,
+    pub config: &'a ResolverConfig,
+    pub marks: &'a Marks,
+    pub rigid: &'a [ColliderHandle],
+    pub starts: &'a Starts,
+    pub frame: StepFrame,
+    pub filter: PairFilter<'a>,
+    pub policy: Policy,
+}
+
+/// What a node of the replay stands for.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+enum Key {
+    Body(RigidBodyHandle),
+    /// A collider without a body (static geometry).
+    Collider(ColliderHandle),
+}
+
+/// A body (or a collider without one) in the replay.
+#[derive(Copy, Clone, Debug)]
+struct Node {
+    key: Key,
+    /// A dynamic body: the law may bend its path.
+    dynamic: bool,
+    motion: Motion,
+    /// Its velocity: rapier's end-of-step velocity plus the changes.
+    u: Vector,
+    /// Its angular velocity: rapier's end-of-step one plus the changes.
+    omega: AngVector,
+    /// What gravity adds to its velocity over the step (zero but for a
+    /// dynamic body whose translations are free).
+    g_dt: Vector,
+    /// Gravity over half its substep (see `StepFrame::half_substep`).
+    g_half: Vector,
+    /// Its world inverse inertia at the end of rapier's step.
+    inverse_inertia: kimpact::InverseInertia<Real, { crate::math::DIM }>,
+    hit: bool,
+}
+
+impl Node {
+    /// The velocity the law meets the body with at time `t` (the ball
+    /// replay's `Node::law_velocity`).
+    fn law_velocity(&self, t: Real, dt: Real) -> Vector {
+        self.u - self.g_dt * ((dt - t) / dt) + self.g_half
+    }
+
+    /// The velocity, at time `t`, of the body's material point at `point`.
+    fn point_velocity(&self, point: Vector, t: Real, dt: Real) -> Vector {
+        let arm = point - self.motion.com_at(t);
+        self.law_velocity(t, dt) + cross(self.omega, arm)
+    }
+}
+
+/// `ω × r` in this dimension.
+#[cfg(feature = "dim2")]
+fn cross(w: AngVector, r: Vector) -> Vector {
+    Vector::new(-w * r.y, w * r.x)
+}
+
+/// `ω × r` in this dimension.
+#[cfg(feature = "dim3")]
+fn cross(w: AngVector, r: Vector) -> Vector {
+    w.cross(r)
+}
+
+/// A pair of colliders in the replay, on nodes `a` and `b`.
+#[derive(Copy, Clone, Debug)]
+struct Pair {
+    a: usize,
+    b: usize,
+    c1: ColliderHandle,
+    c2: ColliderHandle,
+    /// Its next time of impact (`None`: none before the step's end, or
+    /// touching without closing, until either body's path changes).
+    toi: Option<Real>,
+}
+
+/// What a run produces besides the bodies it changes.
+pub(crate) struct RigidOutput<'a> {
+    pub log: &'a mut EventLog,
+    pub woken: &'a mut Vec<RigidBodyHandle>,
+}
+
+/// The rigid replay's state: the hook's claims, the start poses of the
+/// step's moving rigid bodies, and the scratch of a run (kept between
+/// steps, so a steady state allocates little).
+#[derive(Default)]
+pub(crate) struct RigidReplay {
+    pub(crate) claims: Claims,
+    /// Start poses of the moving rigid bodies, sorted by handle.
+    starts: Vec<(RigidBodyHandle, Pose)>,
+    nodes: Vec<Node>,
+    node_of: HashMap<Key, usize>,
+    pairs: Vec<Pair>,
+    paired: HashSet<(ColliderHandle, ColliderHandle)>,
+    manifolds: Vec<ContactManifold<(), ()>>,
+    /// Scratch of the sweeps.
+    met: Vec<ColliderHandle>,
+}
+
+impl std::fmt::Debug for RigidReplay {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("RigidReplay")
+            .field("starts", &self.starts.len())
+            .finish_non_exhaustive()
+    }
+}
+
+impl RigidReplay {
+    /// Before rapier's step: forget the last step's claims and, in impulse
+    /// and exact mode, store where the bodies of the moving rigid
+    /// colliders `rigid` start the step (pose and orientation).
+    pub(crate) fn begin(
+        &mut self,
+        policy: Policy,
+        rigid: &[ColliderHandle],
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+    ) {
+        self.claims.clear();
+        self.starts.clear();
+        if !policy.replays_rigid() {
+            return;
+        }
+        for &ch in rigid {
+            if let Some(h) = colliders.get(ch).and_then(|co| co.parent())
+                && let Some(rb) = bodies.get(h)
+            {
+                self.starts.push((h, *rb.position()));
+            }
+        }
+        self.starts
+            .sort_unstable_by_key(|(h, _)| h.into_raw_parts());
+        self.starts.dedup_by_key(|(h, _)| *h);
+    }
+
+    /// The start pose stored for body `h`.
+    fn start_of(&self, h: RigidBodyHandle) -> Option<Pose> {
+        let key = h.into_raw_parts();
+        self.starts
+            .binary_search_by_key(&key, |(h, _)| h.into_raw_parts())
+            .ok()
+            .map(|i| self.starts[i].1)
+    }
+
+    /// After rapier's step (impulse and exact mode): resolve the claimed
+    /// pairs, and in exact mode those the sweeps of the moving rigid bodies
+    /// find, at their times of impact in time order, and write the bent
+    /// bodies back.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn run(
+        &mut self,
+        input: &RigidInput,
+        out: &mut RigidOutput,
+        bodies: &mut RigidBodySet,
+        colliders: &ColliderSet,
+        narrow_phase: &NarrowPhase,
+        broad_phase: &BroadPhaseBvh,
+    ) {
+        self.claims.collect();
+        self.nodes.clear();
+        self.node_of.clear();
+        self.pairs.clear();
+        self.paired.clear();
+        let dt = input.frame.dt;
+        if dt.is_nan() || dt <= 0.0 {
+            return;
+        }
+        let claimed = std::mem::take(&mut self.claims);
+        for &(c1, c2) in claimed.sorted() {
+            self.add_pair(input, bodies, colliders, c1, c2);
+        }
+        self.claims = claimed;
+        for &ch in input.rigid {
+            self.sweep_start(input, bodies, colliders, narrow_phase, broad_phase, ch);
+        }
+        for i in 0..self.pairs.len() {
+            self.pairs[i].toi = self.time_of_impact(colliders, i, 0.0, dt);
+        }
+        self.resolve(input, out, bodies, colliders, narrow_phase, broad_phase);
+        for n in 0..self.nodes.len() {
+            let node = &self.nodes[n];
+            let Key::Body(h) = node.key else { continue };
+            if !node.hit {
+                continue;
+            }
+            let pose = node.motion.pose_at(dt);
+            let Some(rb) = bodies.get_mut(h) else {
+                continue;
+            };
+            if pose.is_finite()
+                && node.u.is_finite()
+                && motion::angular_speed(node.omega).is_finite()
+            {
+                write_back(rb, pose, node.u, node.omega);
+                out.woken.push(h);
+            }
+        }
+    }
+
+    /// The events, earliest first, until no pair meets before the step's
+    /// end (or the event cap).
+    fn resolve(
+        &mut self,
+        input: &RigidInput,
+        out: &mut RigidOutput,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        narrow_phase: &NarrowPhase,
+        broad_phase: &BroadPhaseBvh,
+    ) {
+        let dt = input.frame.dt;
+        let max_events = input.config.max_events_per_step;
+        let mut events = 0usize;
+        loop {
+            let next = self
+                .pairs
+                .iter()
+                .enumerate()
+                .filter_map(|(i, p)| p.toi.map(|t| (t, i)))
+                .min_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+            let Some((t, i)) = next else { break };
+            if events >= max_events {
+                out.log.cap_hit();
+                log::warn!(
+                    "kimpact: more than {max_events} rigid impacts in one step; the rest is left to rapier"
+                );
+                break;
+            }
+            let Some(()) = self.impact(input, out, bodies, colliders, i, t) else {
+                // Touching without closing (or not for the law): idle until
+                // either body's path changes.
+                self.pairs[i].toi = None;
+                continue;
+            };
+            events += 1;
+            let (a, b) = (self.pairs[i].a, self.pairs[i].b);
+            for n in [a, b] {
+                if self.nodes[n].dynamic {
+                    self.expand(input, bodies, colliders, narrow_phase, broad_phase, n, t);
+                }
+            }
+            for j in 0..self.pairs.len() {
+                let p = self.pairs[j];
+                if [p.a, p.b].iter().any(|&n| n == a || n == b) {
+                    self.pairs[j].toi = self.time_of_impact(colliders, j, t, dt);
+                }
+            }
+        }
+    }
+
+    /// The law's body of node `n` at time `t` with mass `mass`.
+    fn law_rigid(
+        &self,
+        n: usize,
+        mass: kimpact::Mass<Real>,
+        t: Real,
+        dt: Real,
+    ) -> Option<LawRigid> {
+        let node = &self.nodes[n];
+        let v = crate::math::to_law(node.law_velocity(t, dt));
+        let w = motion::to_law_angular(node.omega);
+        match mass {
+            // The world inverse inertia of the end of the step, where the
+            // body's angular velocity (rapier's end-of-step one plus the
+            // changes) is written back: the kinetic energy rapier then
+            // holds changes by exactly the law's `−d`. (At the orientation
+            // of the instant it would not for a body whose inertia differs
+            // between axes: 2e-9 of a spinning capsule's energy.)
+            kimpact::Mass::Finite(m) => LawRigid::new(m, v, w, node.inverse_inertia).ok(),
+            kimpact::Mass::Infinite => LawRigid::immovable(v, w).ok(),
+        }
+    }
+}
+
+/// Give body `rb` the pose `pose`, the velocity `v` and the angular
+/// velocity `w`, the law's outcome at the inertia of rapier's end pose. At
+/// `pose` (where the replay's bent path ends, turned from rapier's end) a
+/// body whose inertia differs between axes has another rotational energy at
+/// `w`: `w` is scaled to keep the law's (a change of the order of the turn
+/// times the anisotropy, 1e-9 of a spinning capsule's energy; none for a
+/// body whose inertia is the same about every axis, nor in 2D).
+fn write_back(rb: &mut RigidBody, pose: Pose, v: Vector, w: AngVector) {
+    rb.set_linvel(v, true);
+    rb.set_angvel(w, true);
+    let rotational =
+        |rb: &RigidBody| rb.kinetic_energy() - 0.5 * rb.mass() * rb.linvel().length_squared();
+    let kept = rotational(rb);
+    rb.set_position(pose, true);
+    let now = rotational(rb);
+    if now > 0.0 && kept >= 0.0 && (now - kept).abs() > 0.0 {
+        let scale = (kept / now).sqrt();
+        if scale.is_finite() {
+            rb.set_angvel(w * scale, true);
+        }
+    }
+}

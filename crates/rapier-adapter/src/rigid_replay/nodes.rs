@@ -1,0 +1,350 @@
+//! The rigid replay's nodes and pairs: which bodies and colliders take
+//! part, their motions, and the pairs the claims, the sweeps and the
+//! neighbours of bent bodies bring in.
+
+use crate::body_view::translations_locked;
+use crate::math::{Real, Vector};
+use crate::policy::RigidSweep;
+use crate::rapier::prelude::*;
+use crate::rigid_view::inverse_inertia;
+
+use super::motion::Motion;
+use super::toi::{Mover, time_of_impact};
+use super::{Key, Node, Pair, RigidInput, RigidReplay, toi_share};
+
+impl RigidReplay {
+    /// The node of collider `ch` (its body's, or its own without a body),
+    /// made on first use.
+    fn node(
+        &mut self,
+        input: &RigidInput,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        ch: ColliderHandle,
+    ) -> Option<usize> {
+        let co = colliders.get(ch)?;
+        let key = match co.parent() {
+            Some(h) => Key::Body(h),
+            None => Key::Collider(ch),
+        };
+        if let Some(&n) = self.node_of.get(&key) {
+            return Some(n);
+        }
+        let node = match key {
+            Key::Collider(_) => Node {
+                key,
+                dynamic: false,
+                motion: Motion::still(*co.position()),
+                u: Vector::ZERO,
+                omega: super::motion::zero_angvel(),
+                g_dt: Vector::ZERO,
+                g_half: Vector::ZERO,
+                inverse_inertia: Default::default(),
+                hit: false,
+            },
+            Key::Body(h) => {
+                let rb = bodies.get(h)?;
+                self.body_node(input, h, rb)
+            }
+        };
+        let n = self.nodes.len();
+        self.nodes.push(node);
+        self.node_of.insert(key, n);
+        Some(n)
+    }
+
+    /// The node of body `h` (`rb`): its motion over the step from its
+    /// start (stored by `begin`; a translation in `Prepare::starts`, turned
+    /// back by its angular velocity; else its end carried back along its
+    /// velocities) to its end.
+    fn body_node(&self, input: &RigidInput, h: RigidBodyHandle, rb: &RigidBody) -> Node {
+        let dt = input.frame.dt;
+        let end = *rb.position();
+        let com = rb.local_center_of_mass();
+        let back = Motion {
+            pose: end,
+            local_com: com,
+            linvel: rb.linvel(),
+            angvel: rb.angvel(),
+            t_ref: dt,
+        };
+        let start = self.start_of(h).or_else(|| {
+            let translation = input.starts.of(h).filter(|_| rb.is_dynamic())?;
+            let mut pose = back.pose_at(0.0);
+            pose.translation = translation;
+            Some(pose)
+        });
+        let motion = match start {
+            Some(start) => Motion::between(start, end, com, rb.angvel(), dt),
+            None => back,
+        };
+        let falls = rb.is_dynamic() && !translations_locked(rb);
+        let g = if falls {
+            input.frame.gravity * rb.gravity_scale()
+        } else {
+            Vector::ZERO
+        };
+        Node {
+            key: Key::Body(h),
+            dynamic: rb.is_dynamic(),
+            motion,
+            u: rb.linvel(),
+            omega: rb.angvel(),
+            g_dt: g * dt,
+            g_half: g * input.frame.half_substep(rb),
+            inverse_inertia: inverse_inertia(rb),
+            hit: false,
+        }
+    }
+
+    /// Bring the pair `c1`, `c2` into the replay (once); its index.
+    pub(super) fn add_pair(
+        &mut self,
+        input: &RigidInput,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        c1: ColliderHandle,
+        c2: ColliderHandle,
+    ) -> Option<usize> {
+        let key = if c1.into_raw_parts() <= c2.into_raw_parts() {
+            (c1, c2)
+        } else {
+            (c2, c1)
+        };
+        if c1 == c2 || self.paired.contains(&key) {
+            return None;
+        }
+        let a = self.node(input, bodies, colliders, c1)?;
+        let b = self.node(input, bodies, colliders, c2)?;
+        if a == b {
+            return None;
+        }
+        self.paired.insert(key);
+        self.pairs.push(Pair {
+            a,
+            b,
+            c1,
+            c2,
+            toi: None,
+        });
+        Some(self.pairs.len() - 1)
+    }
+
+    /// Collider `ch` on node `n` riding the node's path.
+    pub(super) fn mover<'a>(
+        &'a self,
+        colliders: &'a ColliderSet,
+        n: usize,
+        ch: ColliderHandle,
+    ) -> Option<Mover<'a>> {
+        let co = colliders.get(ch)?;
+        let node = &self.nodes[n];
+        let offset = match node.key {
+            Key::Body(_) => Some(co.position_wrt_parent().copied().unwrap_or_default()),
+            Key::Collider(_) => None,
+        };
+        let sphere = co.shape().compute_local_bounding_sphere();
+        let centre = offset.map_or(sphere.center(), |o| o * sphere.center());
+        let reach = (centre - node.motion.local_com).length() + sphere.radius();
+        Some(Mover {
+            motion: &node.motion,
+            offset,
+            shape: co.shape(),
+            reach,
+        })
+    }
+
+    /// The time-of-impact tolerance of pair `i`: [`toi_share`] of the
+    /// smaller collider's bounding radius.
+    pub(super) fn tolerance(&self, colliders: &ColliderSet, i: usize) -> Real {
+        let p = &self.pairs[i];
+        let radius = |ch| {
+            colliders.get(ch).map_or(Real::INFINITY, |co: &Collider| {
+                co.shape().compute_local_bounding_sphere().radius()
+            })
+        };
+        toi_share() * radius(p.c1).min(radius(p.c2))
+    }
+
+    /// Pair `i`'s first time of impact in `[from, to]` (rewound into the
+    /// previous step if it overlaps at `from` = 0, see
+    /// [`time_of_impact`]).
+    pub(super) fn time_of_impact(
+        &mut self,
+        colliders: &ColliderSet,
+        i: usize,
+        from: Real,
+        to: Real,
+    ) -> Option<Real> {
+        let p = self.pairs[i];
+        let tolerance = self.tolerance(colliders, i);
+        let mut manifolds = std::mem::take(&mut self.manifolds);
+        let toi = match (
+            self.mover(colliders, p.a, p.c1),
+            self.mover(colliders, p.b, p.c2),
+        ) {
+            (Some(a), Some(b)) => {
+                time_of_impact(&a, &b, from, to, tolerance, from == 0.0, &mut manifolds)
+            }
+            _ => None,
+        };
+        self.manifolds = manifolds;
+        toi
+    }
+
+    /// Before any impact, in exact mode, and in impulse mode for a body
+    /// that falls (moves along gravity: a landing rapier's contacts did
+    /// not see coming is then resolved at its time, not rewound from an
+    /// overlap): the pairs moving rigid collider `ch`'s path over the step
+    /// reaches that rapier's solver did not touch this step (pairs with
+    /// solver contacts are rapier's).
+    pub(super) fn sweep_start(
+        &mut self,
+        input: &RigidInput,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        narrow_phase: &NarrowPhase,
+        broad_phase: &BroadPhaseBvh,
+        ch: ColliderHandle,
+    ) {
+        let Some(n) = self.node(input, bodies, colliders, ch) else {
+            return;
+        };
+        let falls = self.nodes[n].motion.linvel.dot(input.frame.gravity) > 0.0;
+        let swept = match input.policy.rigid_sweep {
+            RigidSweep::Every => true,
+            RigidSweep::Falling => falls,
+            RigidSweep::Nobody => false,
+        };
+        if swept {
+            self.sweep(
+                input,
+                bodies,
+                colliders,
+                narrow_phase,
+                broad_phase,
+                n,
+                ch,
+                0.0,
+                false,
+            );
+        }
+    }
+
+    /// After an impact bent node `n`'s path at `t`: its colliders' rapier
+    /// contact pairs (touching or within rapier's prediction) and what
+    /// their sweep along the new path reaches, if the law governs them as
+    /// rigid pairs.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn expand(
+        &mut self,
+        input: &RigidInput,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        narrow_phase: &NarrowPhase,
+        broad_phase: &BroadPhaseBvh,
+        n: usize,
+        t: Real,
+    ) {
+        let Key::Body(h) = self.nodes[n].key else {
+            return;
+        };
+        let Some(rb) = bodies.get(h) else { return };
+        let fixed = input.policy.partners;
+        for &ch in rb.colliders() {
+            for cp in narrow_phase.contact_pairs_with(ch) {
+                let (c1, c2) = (cp.collider1, cp.collider2);
+                if input.marks.governs_rigid(fixed, colliders, bodies, c1, c2)
+                    && let Some(i) = self.add_pair(input, bodies, colliders, c1, c2)
+                {
+                    self.pairs[i].toi = self.time_of_impact(colliders, i, t, input.frame.dt);
+                }
+            }
+            self.sweep(
+                input,
+                bodies,
+                colliders,
+                narrow_phase,
+                broad_phase,
+                n,
+                ch,
+                t,
+                true,
+            );
+        }
+    }
+
+    /// Sweep collider `ch` of node `n` along its path from `t` to the
+    /// step's end: every collider whose broad-phase box meets the swept box
+    /// and that the law governs as a rigid pair with it (and rapier would
+    /// let touch) comes into the replay; with `all` also those rapier's
+    /// solver touched this step.
+    #[allow(clippy::too_many_arguments)]
+    fn sweep(
+        &mut self,
+        input: &RigidInput,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        narrow_phase: &NarrowPhase,
+        broad_phase: &BroadPhaseBvh,
+        n: usize,
+        ch: ColliderHandle,
+        t: Real,
+        all: bool,
+    ) {
+        let dt = input.frame.dt;
+        let Some(co) = colliders.get(ch) else { return };
+        let Some(mover) = self.mover(colliders, n, ch) else {
+            return;
+        };
+        let (p0, p1) = (mover.pose_at(t), mover.pose_at(dt));
+        let mut swept = co
+            .shape()
+            .compute_aabb(&p0)
+            .merged(&co.shape().compute_aabb(&p1));
+        // A turning body bulges out of its two boxes by at most its reach
+        // times the turn.
+        let turn = mover.motion.turn_speed(1.0) * (dt - t);
+        swept = swept.loosened(mover.reach * turn.min(2.0) + input.frame.prediction);
+        let dispatcher = crate::rapier::parry::query::DefaultQueryDispatcher;
+        let query =
+            broad_phase.as_query_pipeline(&dispatcher, bodies, colliders, QueryFilter::default());
+        let mut met = std::mem::take(&mut self.met);
+        met.clear();
+        met.extend(
+            query
+                .intersect_aabb_conservative(swept)
+                .map(|(other, _)| other),
+        );
+        met.sort_unstable_by_key(|h| h.into_raw_parts());
+        let fixed = input.policy.partners;
+        for &other in &met {
+            let Some(oc) = colliders.get(other) else {
+                continue;
+            };
+            if other == ch
+                || !input
+                    .marks
+                    .governs_rigid(fixed, colliders, bodies, ch, other)
+                || !input
+                    .filter
+                    .admits(bodies, colliders, [(ch, co), (other, oc)], true)
+            {
+                continue;
+            }
+            if !all
+                && narrow_phase
+                    .contact_pair(ch, other)
+                    .is_some_and(|cp| cp.has_any_active_contact())
+            {
+                continue;
+            }
+            if let Some(i) = self.add_pair(input, bodies, colliders, ch, other)
+                && all
+            {
+                self.pairs[i].toi = self.time_of_impact(colliders, i, t, dt);
+            }
+        }
+        self.met = met;
+    }
+}

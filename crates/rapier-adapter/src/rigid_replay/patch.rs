@@ -1,0 +1,104 @@
+//! The contact patch of two colliders at an instant: the centroid of the
+//! closing contacts of their contact manifold (a face landing flat: the
+//! face's centre; a box on an edge: the edge's midpoint), with its normal.
+
+use crate::math::{Pose, Real, Vector};
+use crate::rapier::parry::query::ContactManifold;
+use crate::rapier::parry::shape::Shape;
+
+use super::toi::manifolds_at;
+
+/// Where and along what two colliders meet.
+#[derive(Copy, Clone, Debug)]
+pub(crate) struct Patch {
+    /// The centroid of the closing contacts (midway between the two
+    /// surfaces), world space.
+    pub point: Vector,
+    /// Unit normal from the first collider towards the second.
+    pub normal: Vector,
+}
+
+/// The patch of `a` (at pose `pa`) and `b` (at `pb`): of the manifold
+/// holding the deepest contact whose material points close (`closes(point,
+/// normal)`), the centroid of its closing contacts within `depth` of that
+/// one. Contacts are looked for up to `reach` apart. `None` when no contact
+/// closes. `manifolds` is scratch.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn patch(
+    a: &dyn Shape,
+    pa: &Pose,
+    b: &dyn Shape,
+    pb: &Pose,
+    reach: Real,
+    depth: Real,
+    closes: impl Fn(Vector, Vector) -> bool,
+    manifolds: &mut Vec<ContactManifold<(), ()>>,
+) -> Option<Patch> {
+    manifolds_at(a, pa, b, pb, reach, manifolds);
+    // Each manifold's world frame: its normal and its contacts' midpoints.
+    let frame = |m: &ContactManifold<(), ()>| {
+        let poses = m.subshape_poses.as_deref();
+        let p1 = match poses.and_then(|p| p.pos1) {
+            Some(sub) => *pa * sub,
+            None => *pa,
+        };
+        let p2 = match poses.and_then(|p| p.pos2) {
+            Some(sub) => *pb * sub,
+            None => *pb,
+        };
+        (p1, p2, p1.rotation * m.local_n1)
+    };
+    let mut best: Option<(usize, Real)> = None;
+    for (i, m) in manifolds.iter().enumerate() {
+        let (p1, p2, n) = frame(m);
+        for c in &m.points {
+            let point = (p1 * c.local_p1 + p2 * c.local_p2) * 0.5;
+            // (parry may list a face's contacts beyond the prediction.)
+            if c.dist <= reach && c.dist < best.map_or(Real::INFINITY, |b| b.1) && closes(point, n)
+            {
+                best = Some((i, c.dist));
+            }
+        }
+    }
+    let Some((i, deepest)) = best else {
+        let listed = manifolds
+            .iter()
+            .any(|m| m.points.iter().any(|c| c.dist <= reach));
+        if listed {
+            return None;
+        }
+        return single_contact(a, pa, b, pb, reach, closes);
+    };
+    let m = &manifolds[i];
+    let (p1, p2, n) = frame(m);
+    let (mut sum, mut count) = (Vector::ZERO, 0usize);
+    for c in &m.points {
+        let point = (p1 * c.local_p1 + p2 * c.local_p2) * 0.5;
+        if c.dist <= reach.min(deepest + depth) && closes(point, n) {
+            sum += point;
+            count += 1;
+        }
+    }
+    Some(Patch {
+        point: sum / count as Real,
+        normal: n,
+    })
+}
+
+/// Where the manifolds list no contact at all (parry's segment against a
+/// box lists none with an end within 1e-8 of the face): parry's single
+/// contact query, if it closes.
+fn single_contact(
+    a: &dyn Shape,
+    pa: &Pose,
+    b: &dyn Shape,
+    pb: &Pose,
+    reach: Real,
+    closes: impl Fn(Vector, Vector) -> bool,
+) -> Option<Patch> {
+    // World space, both points and the normal.
+    let contact = crate::rapier::parry::query::contact(pa, a, pb, b, reach).ok()??;
+    let point = (contact.point1 + contact.point2) * 0.5;
+    let normal = contact.normal1;
+    closes(point, normal).then_some(Patch { point, normal })
+}

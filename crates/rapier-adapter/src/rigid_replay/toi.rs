@@ -1,0 +1,275 @@
+//! When two colliders riding their bodies' motions ([`Motion`]) first
+//! touch within an interval: parry's nonlinear shape cast
+//! (`cast_shapes_nonlinear`) for the pairs it supports, then conservative
+//! advancement on the distance of the pair's contact manifold (parry's
+//! `contact_manifolds`, which takes every pair rapier's narrow phase takes:
+//! heightfields too) until the gap is within the tolerance. parry's cast
+//! only gives the advancement a head start: its "no impact" is checked by
+//! the advancement (it steps over the contact of a rod turning fast from
+//! flat), and it answers "no impact" for a composite shape against a
+//! heightfield, which the advancement alone takes.
+
+use crate::math::{Pose, Real};
+use crate::rapier::parry::query::{
+    ContactManifold, DefaultQueryDispatcher, PersistentQueryDispatcher, QueryDispatcher,
+};
+use crate::rapier::parry::shape::Shape;
+
+use super::motion::Motion;
+
+/// Conservative advancement steps at most (each a contact manifold); a
+/// pair still apart then is left for the next instant.
+const MAX_ADVANCES: usize = 200;
+
+/// A collider riding a body's motion.
+#[derive(Copy, Clone)]
+pub(crate) struct Mover<'a> {
+    pub motion: &'a Motion,
+    /// The collider's pose in its body's frame (`None`: the motion is the
+    /// collider's own).
+    pub offset: Option<Pose>,
+    pub shape: &'a dyn Shape,
+    /// How far the shape reaches from the body's centre of mass.
+    pub reach: Real,
+}
+
+impl Mover<'_> {
+    /// The collider's world pose at time `t`.
+    pub(crate) fn pose_at(&self, t: Real) -> Pose {
+        let body = self.motion.pose_at(t);
+        match self.offset {
+            Some(offset) => body * offset,
+            None => body,
+        }
+    }
+
+    /// An upper bound of how fast a point of the shape moves relative to
+    /// the body's centre of mass.
+    fn turn_bound(&self) -> Real {
+        self.motion.turn_speed(self.reach)
+    }
+}
+
+/// The contact manifolds of `a` and `b` at poses `pa`, `pb` with contacts
+/// up to `prediction` apart, into `manifolds` (empty when parry does not
+/// support the pair).
+pub(crate) fn manifolds_at(
+    a: &dyn Shape,
+    pa: &Pose,
+    b: &dyn Shape,
+    pb: &Pose,
+    prediction: Real,
+    manifolds: &mut Vec<ContactManifold<(), ()>>,
+) {
+    manifolds.clear();
+    let pos12 = pa.inv_mul(pb);
+    let mut workspace = None;
+    let dispatcher = DefaultQueryDispatcher;
+    if dispatcher
+        .contact_manifolds(&pos12, a, b, prediction, manifolds, &mut workspace)
+        .is_err()
+    {
+        manifolds.clear();
+    }
+}
+
+/// parry's distance of `a` (at `pa`) and `b` (at `pb`) if within `reach`:
+/// where a manifold lists no contact (parry's segment against a box, an end
+/// within 1e-8 of the face).
+pub(crate) fn distance(
+    a: &dyn Shape,
+    pa: &Pose,
+    b: &dyn Shape,
+    pb: &Pose,
+    reach: Real,
+) -> Option<Real> {
+    let d = DefaultQueryDispatcher
+        .distance(&pa.inv_mul(pb), a, b)
+        .ok()?
+        .distance;
+    (d <= reach).then_some(d)
+}
+
+/// The smallest distance of the manifolds' contacts (negative: overlap),
+/// `None` without contacts.
+fn gap(manifolds: &[ContactManifold<(), ()>]) -> Option<Real> {
+    manifolds
+        .iter()
+        .flat_map(|m| m.points.iter().map(|p| p.dist))
+        .fold(None, |acc: Option<Real>, d| {
+            Some(acc.map_or(d, |a| a.min(d)))
+        })
+}
+
+/// How many halvings the rewind of an overlapping pair takes at most.
+const REWIND_HALVINGS: usize = 64;
+
+/// The first time in `[from, to]` at which `a` and `b` come within
+/// `tolerance` of each other, `None` if they stay farther apart. A pair
+/// overlapping at `from` meets at `from`, or, with `rewind` (a pair first
+/// seen overlapping, which met in the previous step unseen), at the last
+/// instant of `[from − (to − from), from]` at which it was apart along the
+/// same motions (found by bisection; `from` if it was never apart then).
+/// `manifolds` is scratch.
+pub(crate) fn time_of_impact(
+    a: &Mover,
+    b: &Mover,
+    from: Real,
+    to: Real,
+    tolerance: Real,
+    rewind: bool,
+    manifolds: &mut Vec<ContactManifold<(), ()>>,
+) -> Option<Real> {
+    if from.is_nan() || to.is_nan() || from > to {
+        return None;
+    }
+    if rewind {
+        let reach = tolerance.max(0.0);
+        manifolds_at(
+            a.shape,
+            &a.pose_at(from),
+            b.shape,
+            &b.pose_at(from),
+            reach,
+            manifolds,
+        );
+        if gap(manifolds).is_some_and(|d| d < -tolerance) {
+            return Some(rewound(
+                a,
+                b,
+                from,
+                from - (to - from),
+                tolerance,
+                manifolds,
+            ));
+        }
+    }
+    let dispatcher = DefaultQueryDispatcher;
+    let motion = |m: &Mover| {
+        let nonlinear = m.motion.nonlinear_at(from);
+        match m.offset {
+            Some(offset) => nonlinear.prepend(offset),
+            None => nonlinear,
+        }
+    };
+    // parry's cast answers `None` for a composite shape against a shape it
+    // cannot cast (a heightfield): conservative advancement alone then.
+    let castable = |s: &dyn Shape| s.as_heightfield().is_none() && s.as_voxels().is_none();
+    if !(castable(a.shape) && castable(b.shape)) {
+        return advance(a, b, from, to, tolerance, manifolds).map(|(t, _)| t);
+    }
+    let start = match dispatcher.cast_shapes_nonlinear(
+        &motion(a),
+        a.shape,
+        &motion(b),
+        b.shape,
+        0.0,
+        to - from,
+        true,
+    ) {
+        // parry's conservative advancement can step over a contact (a rod
+        // turning fast from flat): its "none" is checked from `from`.
+        Ok(None) | Err(_) => from,
+        Ok(Some(hit)) => from + hit.time_of_impact.clamp(0.0, to - from),
+    };
+    match advance(a, b, start, to, tolerance, manifolds) {
+        // parry stopped past the contact (overlapping, or a manifold too
+        // deep to list): advanced from `from` instead.
+        found if start > from && found.is_none_or(|(_, d)| d < -tolerance) => {
+            advance(a, b, from, to, tolerance, manifolds).map(|(t, _)| t)
+        }
+        found => found.map(|(t, _)| t),
+    }
+}
+
+/// Conservative advancement from `start` (apart or touching then) to the
+/// first time in `[start, to]` the gap of `a` and `b` is within `tolerance`
+/// (with the gap then): steps of the gap over the largest speed at which
+/// it can close.
+fn advance(
+    a: &Mover,
+    b: &Mover,
+    start: Real,
+    to: Real,
+    tolerance: Real,
+    manifolds: &mut Vec<ContactManifold<(), ()>>,
+) -> Option<(Real, Real)> {
+    // What the two close by at most per unit of time.
+    let bound = (a.motion.linvel - b.motion.linvel).length() + a.turn_bound() + b.turn_bound();
+    let mut t = start;
+    for _ in 0..MAX_ADVANCES {
+        let reach = bound * (to - t) + tolerance;
+        manifolds_at(
+            a.shape,
+            &a.pose_at(t),
+            b.shape,
+            &b.pose_at(t),
+            reach,
+            manifolds,
+        );
+        let (pa, pb) = (a.pose_at(t), b.pose_at(t));
+        let d = gap(manifolds).or_else(|| distance(a.shape, &pa, b.shape, &pb, reach))?;
+        if d <= tolerance {
+            return Some((t, d));
+        }
+        if bound.is_nan() || bound <= 0.0 {
+            return None;
+        }
+        t += d / bound;
+        if t > to {
+            return None;
+        }
+    }
+    Some((t, 0.0))
+}
+
+/// The last instant in `[back, from]` at which `a` and `b`, overlapping at
+/// `from`, were apart by more than `-tolerance` (`from` if they overlap
+/// at `back` too).
+fn rewound(
+    a: &Mover,
+    b: &Mover,
+    from: Real,
+    back: Real,
+    tolerance: Real,
+    manifolds: &mut Vec<ContactManifold<(), ()>>,
+) -> Real {
+    let reach = (a.motion.linvel - b.motion.linvel).length() * (from - back)
+        + a.turn_bound() * (from - back)
+        + b.turn_bound() * (from - back)
+        + tolerance;
+    let apart = |t: Real, manifolds: &mut Vec<ContactManifold<(), ()>>| {
+        manifolds_at(
+            a.shape,
+            &a.pose_at(t),
+            b.shape,
+            &b.pose_at(t),
+            reach,
+            manifolds,
+        );
+        gap(manifolds).is_none_or(|d| d > 0.0)
+    };
+    if !apart(back, manifolds) {
+        return from;
+    }
+    let (mut lo, mut hi) = (back, from);
+    for _ in 0..REWIND_HALVINGS {
+        let mid = 0.5 * (lo + hi);
+        if !(mid > lo && mid < hi) {
+            break;
+        }
+        if apart(mid, manifolds) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+        if hi - lo <= Real::EPSILON * (from - back) {
+            break;
+        }
+    }
+    lo
+}
+
+#[cfg(test)]
+#[path = "toi_tests.rs"]
+mod tests;

@@ -1,0 +1,307 @@
+//! The time of impact and the contact patch against closed forms evaluated
+//! here.
+// One source for f32 and f64: `as Real` is a cast in one build only.
+#![allow(clippy::unnecessary_cast)]
+
+use super::*;
+use crate::math::{DIM, Vector};
+use crate::rapier::math::AngVector;
+use crate::rapier::parry::shape::{Ball, Compound, Cuboid, HeightField, Segment, SharedShape};
+
+use super::super::motion::{Motion, zero_angvel};
+use super::super::patch::patch;
+
+/// Rounding of this precision's positions.
+fn tol() -> f64 {
+    if std::mem::size_of::<Real>() == 8 {
+        1e-9
+    } else {
+        1e-3
+    }
+}
+
+/// A rotation about z by `w` (2D: the angle).
+fn about_z(w: Real) -> AngVector {
+    #[cfg(feature = "dim2")]
+    {
+        w
+    }
+    #[cfg(feature = "dim3")]
+    {
+        AngVector::new(0.0, 0.0, w)
+    }
+}
+
+fn xy(x: Real, y: Real) -> Vector {
+    let mut v = Vector::ZERO;
+    v[0] = x;
+    v[1] = y;
+    v
+}
+
+/// A fixed floor whose top lies at y = 0.
+fn floor() -> (Cuboid, Motion) {
+    let mut half = Vector::splat(10.0);
+    half[1] = 1.0;
+    (
+        Cuboid::new(half),
+        Motion::still(Pose::from_translation(xy(0.0, -1.0))),
+    )
+}
+
+fn body(at: Vector, angle: Real, linvel: Vector, angvel: AngVector) -> Motion {
+    Motion {
+        pose: Pose::new(at, about_z(angle)),
+        local_com: Vector::ZERO,
+        linvel,
+        angvel,
+        t_ref: 0.0,
+    }
+}
+
+/// The first root of `f` in `[0, end]` (sampled, then bisected), if any.
+fn first_root(f: impl Fn(f64) -> f64, end: f64) -> Option<f64> {
+    let samples = 4000;
+    let mut prev = 0.0;
+    for i in 1..=samples {
+        let t = end * i as f64 / samples as f64;
+        if f(t) <= 0.0 {
+            let (mut lo, mut hi) = (prev, t);
+            for _ in 0..200 {
+                let mid = 0.5 * (lo + hi);
+                if f(mid) > 0.0 { lo = mid } else { hi = mid }
+            }
+            return Some(lo);
+        }
+        prev = t;
+    }
+    None
+}
+
+/// Issue 39, rigid replay A: a rod of length L turning at ω about its
+/// centre while it falls at `vy` meets the floor when its lowest end,
+/// `y(t) = y₀ + vy t − (L/2)|sin(θ₀ + ω t)|`, reaches 0 (its first root,
+/// found by bisection here), for turns that bring the end down faster than
+/// the fall, slower, and against it.
+#[test]
+fn a_turning_rod_meets_the_floor_when_its_lowest_end_does() {
+    let (floor, still) = floor();
+    let length = 1.6;
+    let rod = Segment::new(xy(-0.5 * length, 0.0), xy(0.5 * length, 0.0));
+    let mut manifolds = Vec::new();
+    for (y0, vy, theta0, omega) in [
+        (0.6, -2.0, 0.2, 3.0),
+        (0.6, -2.0, 0.2, -1.5),
+        (0.9, -0.5, 1.2, 6.0),
+        (0.3, -1.0, 0.0, 8.0),
+        (1.0, -3.0, 2.5, -4.0),
+    ] {
+        let (y0, vy, theta0, omega): (Real, Real, Real, Real) = (y0, vy, theta0, omega);
+        let end = 1.0;
+        let lowest = |t: f64| {
+            f64::from(y0) + f64::from(vy) * t
+                - 0.5 * f64::from(length) * (f64::from(theta0) + f64::from(omega) * t).sin().abs()
+        };
+        let expected = first_root(lowest, end).expect("the rod lands within the interval");
+        let motion = body(xy(0.3, y0), theta0, xy(0.0, vy), about_z(omega));
+        let a = Mover {
+            motion: &motion,
+            offset: Some(Pose::IDENTITY),
+            shape: &rod,
+            reach: 0.5 * length,
+        };
+        let b = Mover {
+            motion: &still,
+            offset: None,
+            shape: &floor,
+            reach: 0.0,
+        };
+        let tolerance = (1e-3 * tol()) as Real;
+        let t = time_of_impact(&a, &b, 0.0, end as Real, tolerance, false, &mut manifolds)
+            .expect("an impact");
+        let speed = f64::from(vy.abs() + omega.abs() * 0.5 * length);
+        assert!(
+            (f64::from(t) - expected).abs() * speed < tol(),
+            "y0 {y0}, vy {vy}, θ0 {theta0}, ω {omega}: t = {t}, closed form {expected}"
+        );
+    }
+}
+
+/// A rod that turns away from the floor faster than it falls, or falls
+/// too slowly, does not meet it within the interval.
+#[test]
+fn a_rod_that_does_not_reach_the_floor_has_no_impact() {
+    let (floor, still) = floor();
+    let rod = Segment::new(xy(-0.5, 0.0), xy(0.5, 0.0));
+    let mut manifolds = Vec::new();
+    let motion = body(xy(0.0, 1.0), 0.0, xy(0.0, -0.2), about_z(0.0));
+    let a = Mover {
+        motion: &motion,
+        offset: Some(Pose::IDENTITY),
+        shape: &rod,
+        reach: 0.5,
+    };
+    let b = Mover {
+        motion: &still,
+        offset: None,
+        shape: &floor,
+        reach: 0.0,
+    };
+    assert_eq!(
+        time_of_impact(&a, &b, 0.0, 1.0, 1e-9, false, &mut manifolds),
+        None
+    );
+}
+
+/// A cube falling flat meets the floor at `(y₀ − h)/|vy|`, and its patch is
+/// the centre of its lower face (no arm: no spin); tilted about z it lands
+/// on an edge (3D) or a corner (2D), whose patch is the edge's midpoint:
+/// under the centre along z.
+#[test]
+fn a_face_lands_at_its_centre_and_an_edge_at_its_midpoint() {
+    let (floor, still) = floor();
+    let cube = Cuboid::new(Vector::splat(0.5));
+    let mut manifolds = Vec::new();
+    for angle in [0.0 as Real, 0.3] {
+        let motion = body(xy(0.2, 1.5), angle, xy(0.1, -2.0), zero_angvel());
+        let a = Mover {
+            motion: &motion,
+            offset: Some(Pose::IDENTITY),
+            shape: &cube,
+            reach: 0.9,
+        };
+        let b = Mover {
+            motion: &still,
+            offset: None,
+            shape: &floor,
+            reach: 0.0,
+        };
+        let tolerance = (1e-3 * tol()) as Real;
+        let t = time_of_impact(&a, &b, 0.0, 1.0, tolerance, false, &mut manifolds).unwrap();
+        // The lowest point's depth below the centre: h (cos θ + sin θ).
+        let drop = 0.5 * (f64::from(angle).cos() + f64::from(angle).sin());
+        let expected = (1.5 - drop) / 2.0;
+        assert!(
+            (f64::from(t) - expected).abs() < tol(),
+            "angle {angle}: t = {t} for {expected}"
+        );
+        let closes = |_: Vector, _: Vector| true;
+        let found = patch(
+            &cube,
+            &a.pose_at(t),
+            &floor,
+            &b.pose_at(t),
+            1e-4,
+            1e-6,
+            closes,
+            &mut manifolds,
+        )
+        .expect("a patch");
+        let centre = a.pose_at(t).translation;
+        let normal = found.normal;
+        assert!(
+            (normal - xy(0.0, -1.0)).length() < 1e-6,
+            "normal {normal:?}"
+        );
+        let lowest_x = if angle == 0.0 {
+            f64::from(centre.x)
+        } else {
+            // The lowest corner (2D) or edge (3D): (−h, −h) turned by θ.
+            let (c, s) = (f64::from(angle).cos(), f64::from(angle).sin());
+            f64::from(centre.x) + 0.5 * (-c + s)
+        };
+        assert!(
+            (f64::from(found.point.x) - lowest_x).abs() < 1e2 * tol(),
+            "angle {angle}: {found:?}"
+        );
+        assert!(f64::from(found.point.y).abs() < 1e2 * tol(), "{found:?}");
+        if DIM == 3 {
+            assert!(
+                (found.point[DIM - 1] - centre[DIM - 1]).abs() < 1e-6,
+                "{found:?}"
+            );
+        }
+    }
+}
+
+/// Partners parry's nonlinear cast does not take (a heightfield) and
+/// composite bodies (a compound) meet a falling ball at `(y₀ − r)/|vy|`.
+#[test]
+fn heightfields_and_compounds_are_met_in_time() {
+    let mut manifolds = Vec::new();
+    #[cfg(feature = "dim2")]
+    let field = HeightField::new(vec![0.0; 5], xy(8.0, 1.0));
+    #[cfg(feature = "dim3")]
+    let field = HeightField::new(
+        crate::rapier::parry::utils::Array2::new(3, 3, vec![0.0; 9]),
+        Vector::new(8.0, 1.0, 8.0),
+    );
+    let compound = Compound::new(vec![
+        (
+            Pose::from_translation(xy(-0.3, 0.0)),
+            SharedShape::ball(0.25),
+        ),
+        (
+            Pose::from_translation(xy(0.3, 0.1)),
+            SharedShape::ball(0.25),
+        ),
+    ]);
+    let still = Motion::still(Pose::IDENTITY);
+    let ball = Ball::new(0.25);
+    let falling = body(xy(0.1, 1.25), 0.0, xy(0.0, -2.0), zero_angvel());
+    for (name, shape) in [("ball", &ball as &dyn Shape), ("compound", &compound)] {
+        let a = Mover {
+            motion: &falling,
+            offset: Some(Pose::IDENTITY),
+            shape,
+            reach: 0.7,
+        };
+        let b = Mover {
+            motion: &still,
+            offset: None,
+            shape: &field,
+            reach: 0.0,
+        };
+        let t = time_of_impact(
+            &a,
+            &b,
+            0.0,
+            1.0,
+            (1e-3 * tol()) as Real,
+            false,
+            &mut manifolds,
+        )
+        .unwrap();
+        // The compound's lowest ball is 0.1 below the other's centre line.
+        let expected = (1.25 - 0.25) / 2.0;
+        assert!(
+            (f64::from(t) - expected).abs() < tol(),
+            "{name}: t = {t} for {expected}"
+        );
+    }
+}
+
+/// A pair first seen overlapping is rewound along its motions to the last
+/// instant it was apart (a ball sunk 0.1 into the floor at 2 m/s: 0.05 s
+/// back).
+#[test]
+fn an_overlap_is_rewound_to_its_contact() {
+    let (floor, still) = floor();
+    let ball = Ball::new(0.5);
+    let mut manifolds = Vec::new();
+    let motion = body(xy(0.0, 0.4), 0.0, xy(0.0, -2.0), zero_angvel());
+    let a = Mover {
+        motion: &motion,
+        offset: Some(Pose::IDENTITY),
+        shape: &ball,
+        reach: 0.5,
+    };
+    let b = Mover {
+        motion: &still,
+        offset: None,
+        shape: &floor,
+        reach: 0.0,
+    };
+    let t = time_of_impact(&a, &b, 0.0, 0.1, 1e-9, true, &mut manifolds).unwrap();
+    assert!((f64::from(t) + 0.05).abs() < tol(), "t = {t}");
+}
