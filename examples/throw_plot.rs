@@ -47,7 +47,23 @@ fn throw(mu: f64, phi: f64) -> Option<(f64, f64)> {
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/throw.svg");
-    let root = SVGBackend::new(&path, (720, 420)).into_drawing_area();
+    let mut svg = String::new();
+    draw(&mut svg)?;
+    // Whole or not at all: a temporary file beside it (readable by all, as
+    // the file it replaces), then renamed.
+    let mut builder = tempfile::Builder::new();
+    #[cfg(unix)]
+    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o644));
+    let mut temp = builder.tempfile_in(path.parent().ok_or("no folder")?)?;
+    std::io::Write::write_all(&mut temp, svg.as_bytes())?;
+    temp.persist(&path)?;
+    println!("wrote {}", path.display());
+    Ok(())
+}
+
+/// The plot, as an SVG document into `svg`.
+fn draw(svg: &mut String) -> Result<(), Box<dyn std::error::Error>> {
+    let root = SVGBackend::with_string(svg, (720, 420)).into_drawing_area();
     root.fill(&WHITE)?;
     let mut chart = ChartBuilder::on(&root)
         .caption(
@@ -90,6 +106,5 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .position(SeriesLabelPosition::LowerRight)
         .draw()?;
     root.present()?;
-    println!("wrote {}", path.display());
     Ok(())
 }

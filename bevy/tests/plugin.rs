@@ -2,7 +2,8 @@
 //! (compiled by bevy_kimpact2d and bevy_kimpact3d).
 //!
 //! `harness.rs` builds the test app; `law.rs` checks the law through the
-//! plugin, `app.rs` what the plugin promises the app it is added to.
+//! plugin, `rigid.rs` on marked boxes and capsules, `app.rs` what the
+//! plugin promises the app it is added to.
 
 #[cfg(feature = "dim2")]
 use bevy_kimpact2d as bk;
@@ -15,3 +16,5 @@ mod app;
 mod harness;
 #[path = "plugin/law.rs"]
 mod law;
+#[path = "plugin/rigid.rs"]
+mod rigid;

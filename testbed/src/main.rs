@@ -20,7 +20,7 @@
 
 mod run;
 mod script;
-mod world;
+mod view;
 
 use std::path::{Path, PathBuf};
 
@@ -93,7 +93,7 @@ async fn main() {
     for path in &paths {
         let scene = kimpact_scene::load(path).unwrap_or_else(|e| fail(e));
         // Checked here, before a window opens.
-        if let Err(e) = world::build(&scene, scene.mode) {
+        if let Err(e) = kimpact_world::dim2::build(&scene, scene.mode) {
             fail(e);
         }
         scenes.push(scene);

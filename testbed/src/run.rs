@@ -7,8 +7,11 @@ use kimpact2d::Mode;
 use rapier_testbed2d::TestbedViewer;
 use rapier2d::prelude::PhysicsWorld;
 
+use kimpact_world::BuildError;
+use kimpact_world::dim2::build;
+
 use crate::script::{Record, Script};
-use crate::world::{self, BuildError, Built};
+use crate::view;
 
 /// The settings panel's mode menu.
 const MODE_KEY: &str = "kimpact mode";
@@ -57,49 +60,48 @@ pub async fn run_scene(
     // The menu switches kimpact live: no restart.
     settings.set_restart_on_change(MODE_KEY, false);
     let mode = Mode::ALL.get(chosen).copied().unwrap_or(start);
-    let Built {
-        mut world,
-        mut kimpact,
-    } = world::build(scene, mode)?;
-    viewer.set_world(&mut world);
+    // The world the CLI runs, its mode switched in place (soft CCD and
+    // contact recycling with it).
+    let mut built = build(scene, mode)?;
+    viewer.set_world(&mut built.world);
     // Most of the testbed's 1280 × 720 window.
-    let (centre, zoom) = world::frame(scene, 1000.0, 600.0);
+    let (centre, zoom) = view::frame(scene, 1000.0, 600.0);
     viewer.look_at(centre, zoom);
 
-    let mut record = Record::new(&scene.name, mode, kinetic(&world));
+    let mut record = Record::new(&scene.name, mode, kinetic(&built.world));
     let mut frame = 0;
-    while viewer.render_frame(&mut world).await {
+    while viewer.render_frame(&mut built.world).await {
         let panel = viewer
             .example_settings()
             .get_string_id(MODE_KEY)
             .and_then(|i| Mode::ALL.get(i).copied());
-        let mut wanted = panel.unwrap_or(kimpact.mode());
+        let mut wanted = panel.unwrap_or(built.kimpact.mode());
         if let Some(m) = script.switch_at(frame) {
             wanted = m;
             viewer
                 .example_settings_mut()
                 .set_string(MODE_KEY, mode_index(m), mode_names());
         }
-        if wanted != kimpact.mode() {
-            kimpact.set_mode(wanted);
-            record.switch(wanted, kinetic(&world));
+        if wanted != built.kimpact.mode() {
+            built.set_mode(wanted);
+            record.switch(wanted, kinetic(&built.world));
         }
         if !viewer.simulating() {
             continue;
         }
-        kimpact.step_world(&mut world, &(), &());
+        built.kimpact.step_world(&mut built.world, &(), &());
         frame += 1;
-        record.step(kimpact.events().len());
-        let stats = kimpact.stats();
+        record.step(built.kimpact.events().len());
+        let stats = built.kimpact.stats();
         viewer.example_settings_mut().set_label(
             IMPACTS_KEY,
             format!("{} impacts in {} steps", stats.impacts, stats.steps),
         );
         if script.done(frame) {
-            record.close(kinetic(&world));
+            record.close(kinetic(&built.world));
             // Two frames without a step: the last one shows this step.
             for _ in 0..2 {
-                if !viewer.render_frame(&mut world).await {
+                if !viewer.render_frame(&mut built.world).await {
                     return Ok(Ended::Closed);
                 }
             }

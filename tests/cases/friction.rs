@@ -264,7 +264,7 @@ fn a_spinning_ball_rebounds_off_a_floor_as_walton_s_model_says() {
         ] {
             let case = format!("{mode:?}, μ = {mu}, β = {beta}, ω = {spin}");
             let mut w = TestWorld::new(mode, 0.0, Vector::ZERO);
-            w.wall(Vector::Y * -1.0, Vector::splat(20.0) - Vector::Y * 19.0);
+            w.floor();
             let (vx, vn) = (1.0 as Real, 2.0 as Real);
             let velocity = Vector::X * vx - Vector::Y * vn;
             let (b, _) = rough_ball(&mut w, Vector::Y * 0.71, velocity, spin, (mu, beta));

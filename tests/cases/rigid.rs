@@ -22,14 +22,8 @@ struct BarDrop {
 /// under the law with wall dissipation `wall` in law mode `mode`: stepped
 /// until the step of its first impact.
 fn drop_bar(mode: Mode, length: Real, half: Real, angle: Real, speed: Real, wall: Real) -> BarDrop {
-    let mut w = TestWorld::new(mode, 0.0, Vector::ZERO);
-    w.kimpact
-        .set_law(LawParams {
-            wall_dissipation: Some(wall),
-            ..Default::default()
-        })
-        .unwrap();
-    w.wall(Vector::Y * -1.0, Vector::splat(20.0) - Vector::Y * 19.0);
+    let mut w = TestWorld::with_wall_dissipation(mode, wall, Vector::ZERO);
+    w.floor();
     let mut he = Vector::splat(0.5 * length);
     he[1] = half;
     // The lowest corner 0.2 above the floor.
@@ -40,9 +34,7 @@ fn drop_bar(mode: Mode, length: Real, half: Real, angle: Real, speed: Real, wall
         .rotation(AboutZ::about_z(angle))
         .linvel(Vector::Y * -speed)
         .can_sleep(false);
-    let collider = world::cuboid(he).mass(2.0).friction(0.0).restitution(0.0);
-    let (b, c) = w.world.insert(body, collider);
-    w.kimpact.mark(&w.world.colliders, c).unwrap();
+    let b = w.marked_cuboid(body, he, 2.0);
     let energy = |w: &TestWorld| {
         let rb = &w.world.bodies[b];
         let spin = angular_z(rb);
@@ -198,10 +190,7 @@ fn marked_box(w: &mut TestWorld, position: Vector, velocity: Vector) -> RigidBod
         .translation(position)
         .linvel(velocity)
         .can_sleep(false);
-    let collider = world::cuboid(Vector::splat(0.5)).mass(1.0).friction(0.0).restitution(0.0);
-    let (b, c) = w.world.insert(body, collider);
-    w.kimpact.mark(&w.world.colliders, c).unwrap();
-    b
+    w.marked_cuboid(body, Vector::splat(0.5), 1.0)
 }
 
 /// Every law mode on faces (issue 39.3), elastic, no gravity: a box
@@ -215,7 +204,7 @@ fn every_law_mode_bounces_faces_as_the_law_does() {
     for mode in LAW_MODES {
         // On the floor (the top of a wall at y = 0).
         let mut w = TestWorld::new(mode, 0.0, Vector::ZERO);
-        w.wall(Vector::Y * -1.0, Vector::splat(20.0) - Vector::Y * 19.0);
+        w.floor();
         let b = marked_box(&mut w, Vector::Y * 0.8, Vector::Y * -speed);
         for _ in 0..10 {
             w.step();

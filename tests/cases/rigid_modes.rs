@@ -126,14 +126,8 @@ fn check_corner_landing(mode: Mode, wall: Real, spin: AngVector, locked: LockedA
     .map(|axis| if locked.contains(axis) { 0.0 } else { 1.0 });
     let energy = |v: [f64; 3], w: [f64; 3]| 0.5 * m * dot3(v, v) + 0.5 * inertia * dot3(w, w);
     let case = format!("{mode}, d̃w = {wall}, spin {spin:?}, locked {locked:?}, {extra} more iterations");
-    let mut w = TestWorld::new(mode, 0.0, Vector::ZERO);
-    w.kimpact
-        .set_law(LawParams {
-            wall_dissipation: Some(wall),
-            ..Default::default()
-        })
-        .unwrap();
-    w.wall(Vector::Y * -1.0, Vector::splat(20.0) - Vector::Y * 19.0);
+    let mut w = TestWorld::with_wall_dissipation(mode, wall, Vector::ZERO);
+    w.floor();
     let body = RigidBodyBuilder::dynamic()
         .translation(Vector::Y * 1.2)
         .rotation(AngVector::xyz(0.4, 0.3, 0.9))
@@ -142,9 +136,7 @@ fn check_corner_landing(mode: Mode, wall: Real, spin: AngVector, locked: LockedA
         .locked_axes(locked)
         .additional_solver_iterations(extra)
         .can_sleep(false);
-    let collider = world::cuboid(half).mass(m as Real).friction(0.0).restitution(0.0);
-    let (b, c) = w.world.insert(body, collider);
-    w.kimpact.mark(&w.world.colliders, c).unwrap();
+    let b = w.marked_cuboid(body, half, m as Real);
     let mut landed = None;
     for _ in 0..40 {
         let rb = &w.world.bodies[b];
@@ -307,13 +299,7 @@ fn settings_additional_solver_iterations_on_a_landing_box() {
 /// bounces clear of the floor, its contacts slower than the rest speed are
 /// rapier's, which may turn it).
 fn cube_flights(mode: Mode, wall: Real) -> (Vec<Vec<f64>>, f64) {
-    let mut w = TestWorld::new(mode, 0.0, Vector::Y * -9.81);
-    w.kimpact
-        .set_law(LawParams {
-            wall_dissipation: Some(wall),
-            ..Default::default()
-        })
-        .unwrap();
+    let mut w = TestWorld::with_wall_dissipation(mode, wall, Vector::Y * -9.81);
     // The floor's top at y = −0.5: the cube touches it with its centre at 0.
     w.wall(Vector::Y * -5.5, Vector::splat(5.0));
     let b = marked_box(&mut w, Vector::Y * 4.5, Vector::ZERO);
@@ -617,13 +603,7 @@ fn a_spinning_ball_hitting_a_wall_head_on_keeps_its_spin() {
     for mode in LAW_MODES {
         for wall in [0.0 as Real, 0.1] {
             let case = format!("{mode}, d̃w = {wall}");
-            let mut w = TestWorld::new(mode, 0.0, Vector::ZERO);
-            w.kimpact
-                .set_law(LawParams {
-                    wall_dissipation: Some(wall),
-                    ..Default::default()
-                })
-                .unwrap();
+            let mut w = TestWorld::with_wall_dissipation(mode, wall, Vector::ZERO);
             // The wall's face at x = 1.5.
             w.wall(Vector::X * 2.0, Vector::splat(5.0) - Vector::X * 4.5);
             let (b, _) = w.ball(Vector::ZERO, Vector::X * speed, 0.5, 1.0);

@@ -30,13 +30,7 @@ fn flight_energy(w: &TestWorld, b: RigidBodyHandle, contact: f64) -> f64 {
 /// ([`flight_energy`]) while the ball is clear of the floor, one list per
 /// flight.
 fn bounce_flights(mode: Mode, wall: Real) -> Vec<Vec<f64>> {
-    let mut w = TestWorld::new(mode, 0.0, Vector::Y * -9.81);
-    w.kimpact
-        .set_law(LawParams {
-            wall_dissipation: Some(wall),
-            ..Default::default()
-        })
-        .unwrap();
+    let mut w = TestWorld::with_wall_dissipation(mode, wall, Vector::Y * -9.81);
     w.wall(Vector::Y * -5.5, Vector::splat(5.0));
     let radius = 0.5;
     let (b, _) = w.ball(Vector::Y * 4.5, Vector::ZERO, radius, 1.0);

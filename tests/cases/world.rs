@@ -35,6 +35,36 @@ impl TestWorld {
         }
     }
 
+    /// A world in `mode` under `gravity`, the law elastic but for the wall
+    /// dissipation `wall` (d̃w, against fixed partners).
+    pub fn with_wall_dissipation(mode: Mode, wall: Real, gravity: Vector) -> Self {
+        let mut w = Self::new(mode, 0.0, gravity);
+        w.kimpact
+            .set_law(LawParams {
+                wall_dissipation: Some(wall),
+                ..Default::default()
+            })
+            .unwrap();
+        w
+    }
+
+    /// A fixed frictionless floor whose top is at y = 0 (a wall 2 thick and
+    /// 40 wide).
+    pub fn floor(&mut self) -> ColliderHandle {
+        self.wall(Vector::Y * -1.0, Vector::splat(20.0) - Vector::Y * 19.0)
+    }
+
+    /// A marked cuboid of half-extents `half` and mass `mass` on `body`,
+    /// frictionless, rapier's restitution 0 (only the law bounces it).
+    pub fn marked_cuboid(&mut self, body: RigidBodyBuilder, half: Vector, mass: Real) -> RigidBodyHandle {
+        let collider = cuboid(half).mass(mass).friction(0.0).restitution(0.0);
+        let (b, c) = self.world.insert(body, collider);
+        self.kimpact
+            .mark(&self.world.colliders, c)
+            .expect("inserted just above");
+        b
+    }
+
     /// A frictionless ball of mass `mass`, marked.
     pub fn ball(
         &mut self,

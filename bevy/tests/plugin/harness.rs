@@ -1,6 +1,7 @@
 //! The test app: a headless bevy_rapier app with kimpact (or without),
 //! its timestep modes, the user's hooks, and the bodies and scenes the
 //! tests spawn (a ball, a wall, a closed box, Newton's cradle, a gas).
+//! Every test of the plugins builds its app here.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -30,19 +31,19 @@ pub fn vect(x: f32, y: f32, z: f32) -> Vect {
     Vect::new(x, y, z)
 }
 #[cfg(feature = "dim2")]
-fn cuboid(h: Vect) -> Collider {
+pub fn cuboid(h: Vect) -> Collider {
     Collider::cuboid(h.x, h.y)
 }
 #[cfg(feature = "dim3")]
-fn cuboid(h: Vect) -> Collider {
+pub fn cuboid(h: Vect) -> Collider {
     Collider::cuboid(h.x, h.y, h.z)
 }
 #[cfg(feature = "dim2")]
-fn at(p: Vect) -> Transform {
+pub fn at(p: Vect) -> Transform {
     Transform::from_translation(p.extend(0.0))
 }
 #[cfg(feature = "dim3")]
-fn at(p: Vect) -> Transform {
+pub fn at(p: Vect) -> Transform {
     Transform::from_translation(p)
 }
 #[cfg(feature = "dim2")]

@@ -1,6 +1,6 @@
-//! Scene → rapier world → run, written once (`body.rs`) and compiled for the
-//! four adapter crates, with small dimension-specific helpers (`dim2.rs`,
-//! `dim3.rs`). Everything leaving this module is `f64` and dimension-free.
+//! Scene → rapier world (kimpact-world's builder, shared with the testbed)
+//! → run, written once (`body.rs`) and compiled for the four adapter crates.
+//! Everything leaving this module is `f64` and dimension-free.
 
 use indicatif::ProgressBar;
 
@@ -31,31 +31,31 @@ pub fn run(
 /// rapier2d (f32).
 #[allow(clippy::unnecessary_cast, clippy::useless_conversion)]
 mod sim2d {
+    use kimpact_world::dim2 as w;
     use kimpact2d as k;
-    include!("dim2.rs");
     include!("body.rs");
 }
 
 /// rapier2d-f64.
 #[allow(clippy::unnecessary_cast, clippy::useless_conversion)]
 mod sim2d_f64 {
+    use kimpact_world::dim2_f64 as w;
     use kimpact2d_f64 as k;
-    include!("dim2.rs");
     include!("body.rs");
 }
 
 /// rapier3d (f32).
 #[allow(clippy::unnecessary_cast, clippy::useless_conversion)]
 mod sim3d {
+    use kimpact_world::dim3 as w;
     use kimpact3d as k;
-    include!("dim3.rs");
     include!("body.rs");
 }
 
 /// rapier3d-f64.
 #[allow(clippy::unnecessary_cast, clippy::useless_conversion)]
 mod sim3d_f64 {
+    use kimpact_world::dim3_f64 as w;
     use kimpact3d_f64 as k;
-    include!("dim3.rs");
     include!("body.rs");
 }

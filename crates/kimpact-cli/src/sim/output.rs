@@ -93,7 +93,8 @@ pub struct RunOutput {
     pub zeroed_friction: usize,
     /// Joints built.
     pub joints: usize,
-    /// Colliders marked for the law.
+    /// Bodies the law governs (marked in every mode; none in native mode,
+    /// where kimpact leaves marked pairs to rapier).
     pub law_bodies: usize,
     /// rapier's substeps per step (`IntegrationParameters::num_solver_iterations`).
     pub substeps: usize,
