@@ -55,12 +55,15 @@ impl Bench {
     /// dominoes (2 × 10 cm, 10 g, friction 0.5) standing 6 cm apart in
     /// rows of 20 along one fixed floor (rows 0.4 m apart), the first of
     /// each row turning at 10 rad/s, so that every row topples; gravity,
-    /// steps of 1/120 s as the bundled scene, the elastic law (rapier's
-    /// restitution 0), sleeping allowed.
+    /// steps of 1/120 s, restitution 0.3 on dominoes and floor and the law
+    /// `LawParams::from_restitution(0.3, 0.3)`, as the bundled scene,
+    /// sleeping allowed.
     fn dominoes(mode: Mode, count: usize) -> Self {
-        let mut b = Self::new(mode, 0.0, -Vector::Y * 9.81);
+        let params = LawParams::from_restitution(0.3, 0.3).expect("restitutions in [0, 1]");
+        let mut b = Self::new(mode, params.dissipation, -Vector::Y * 9.81);
+        b.kimpact.set_law(params).expect("valid law parameters");
         b.world.integration_parameters.dt = 1.0 / 120.0;
-        let material = (0.5, 0.0);
+        let material = (0.5, 0.3);
         let (per_row, pitch) = (20usize, 0.06);
         let row_length = pitch * per_row as Real + 0.4;
         let rows = count.div_ceil(per_row);

@@ -18,6 +18,10 @@ pub(crate) struct StepFrame {
     pub gravity_speed: Real,
     /// rapier's substeps per step (`num_solver_iterations`, at least 1).
     pub substeps: usize,
+    /// The velocity every body of a world falling as a whole shares this
+    /// step, if it does (see the `shared_frame` module): the sweeps judge a
+    /// body's motion against it. `None`: each body's own motion.
+    pub shared: Option<Vector>,
 }
 
 impl StepFrame {
@@ -37,6 +41,7 @@ impl StepFrame {
             rest_speed: rest_speed.unwrap_or(2.0 * g * dt),
             gravity_speed: g * dt,
             substeps: params.num_solver_iterations.max(1),
+            shared: None,
         }
     }
 
@@ -55,5 +60,15 @@ impl StepFrame {
     /// `g dt`: what rapier adds to a dynamic body's velocity this step.
     pub(crate) fn gravity_dt(&self) -> Vector {
         self.gravity * self.dt
+    }
+
+    /// Path velocity `v` as the sweeps judge it: relative to the shared
+    /// frame's velocity if the step has one ([`StepFrame::shared`]).
+    #[inline]
+    pub(crate) fn relative(&self, v: Vector) -> Vector {
+        match self.shared {
+            Some(w) => v - w,
+            None => v,
+        }
     }
 }

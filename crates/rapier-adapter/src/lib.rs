@@ -52,6 +52,7 @@ pub use kimpact::{FixedPartner, ImpactFriction, Law, LawError, LawParams, Precis
 // events                        what the stages report
 // cast, sweep_grid, leaves      geometry: times of impact, grids, rapier's tree
 // rigid_view                    how the law sees a rotating body at a contact
+// policy, shared_frame          what a mode does this step; the frame a falling world shares
 // calm, prepare                 stage 1: hook flags and starts
 // replay                        stages 1 and 3: impacts in time order
 // rigid_replay                  stage 3: rigid bodies' impacts in time order
@@ -80,6 +81,7 @@ mod replay;
 mod resolver;
 mod rigid_replay;
 mod rigid_view;
+mod shared_frame;
 mod snapshot;
 mod sweep_grid;
 #[cfg(test)]

@@ -57,6 +57,8 @@ pub(crate) enum RigidSweep {
 /// What kimpact does in one step.
 #[derive(Copy, Clone, Debug)]
 pub(crate) struct Policy {
+    /// The mode this policy carries out (shown by `Debug`).
+    pub mode: Mode,
     /// Who responds to the law's point contacts.
     pub response: Response,
     /// The replay's sweeps and chains.
@@ -109,6 +111,7 @@ impl Policy {
             Mode::Exact => (Response::Replay, half, half, 0.0, RigidSweep::Every),
         };
         Self {
+            mode,
             response,
             reach: Reach {
                 sweep,
@@ -122,7 +125,7 @@ impl Policy {
 
     /// Whether kimpact acts at all this step (every mode but native).
     pub(crate) fn acts(&self) -> bool {
-        self.response != Response::Rapier
+        self.mode != Mode::Native
     }
 
     /// Whether the prepare pass notes which flagged colliders the replay

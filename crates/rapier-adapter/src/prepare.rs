@@ -593,7 +593,10 @@ impl Prepare {
         // How far the body moves this step (restitution mode's swept test;
         // a NaN is not swept: the hook's guard cuts it off).
         let travel = if step.notes_fast_bodies && rb.is_dynamic() {
-            (path_velocity(rb, step.frame.gravity_dt()) * step.frame.dt).length()
+            let v = step
+                .frame
+                .relative(path_velocity(rb, step.frame.gravity_dt()));
+            (v * step.frame.dt).length()
         } else {
             0.0
         };

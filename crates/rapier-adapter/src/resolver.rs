@@ -20,6 +20,7 @@ use crate::prepare::{Prepare, PrepareInput};
 use crate::rapier::prelude::*;
 use crate::replay::{Replay, ReplayInput, ReplayOutput, ReplaySets};
 use crate::rigid_replay::{RigidInput, RigidOutput, RigidReplay};
+use crate::shared_frame::free_fall_velocity;
 use crate::snapshot::{Saving, Snapshot, SnapshotError};
 
 /// A collider handle that is not in the collider set it was checked
@@ -434,8 +435,14 @@ impl Kimpact {
         self.log.stats.steps += 1;
         self.candidates.clear();
         *self.guarded.get_mut() = 0;
-        let frame = StepFrame::new(gravity, integration_parameters, self.config.rest_speed);
+        let mut frame = StepFrame::new(gravity, integration_parameters, self.config.rest_speed);
         let policy = Policy::new(self.mode, &self.config, &frame);
+        if policy.acts() {
+            // `prepare` flags every body faster than half the rest speed.
+            let threshold = 0.5 * frame.rest_speed;
+            frame.shared =
+                free_fall_velocity(islands, bodies, colliders, frame.gravity_dt(), threshold);
+        }
         let input = PrepareInput {
             islands,
             bodies,

@@ -276,6 +276,7 @@ impl Replay {
                 .get(collider)
                 .map_or(0.0, crate::body_view::half_size),
         };
-        (self.nodes[n].v * (run.dt - from)).length() > share * half
+        let v = run.input.frame.relative(self.nodes[n].v);
+        (v * (run.dt - from)).length() > share * half
     }
 }

@@ -87,8 +87,11 @@ impl Replay {
     ) -> Option<(Aabb, Option<BallOnPath>)> {
         let dt = run.dt;
         let node = &self.nodes[n];
-        let moved = node.v * (dt - from);
-        let reach = if node.v.dot(run.gravity_dt) > 0.0 {
+        // Against the frame a world falling as a whole shares, where gravity
+        // is every body's alike: nothing falls onto a partner at rest.
+        let frame = &run.input.frame;
+        let moved = frame.relative(node.v) * (dt - from);
+        let reach = if frame.shared.is_none() && node.v.dot(run.gravity_dt) > 0.0 {
             run.reach.fall
         } else {
             run.reach.sweep
