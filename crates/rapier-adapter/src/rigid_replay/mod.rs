@@ -310,22 +310,26 @@ impl RigidReplay {
                 );
                 break;
             }
-            let Some(()) = self.impact(input, out, bodies, colliders, i, t) else {
+            let Some(bent) = self.impact(input, out, bodies, colliders, i, t) else {
                 // Touching without closing (or not for the law): idle until
                 // either body's path changes.
                 self.pairs[i].toi = None;
                 continue;
             };
             events += 1;
+            // Only a body the impact bent has a new path: the pairs of an
+            // immovable or dominant partner (a floor under a pile) keep
+            // their times.
             let (a, b) = (self.pairs[i].a, self.pairs[i].b);
+            let changed = |n: usize| (n == a && bent[0]) || (n == b && bent[1]);
             for n in [a, b] {
-                if self.nodes[n].dynamic {
+                if changed(n) {
                     self.expand(input, bodies, colliders, narrow_phase, broad_phase, n, t);
                 }
             }
             for j in 0..self.pairs.len() {
                 let p = self.pairs[j];
-                if [p.a, p.b].iter().any(|&n| n == a || n == b) {
+                if changed(p.a) || changed(p.b) {
                     self.pairs[j].toi = self.time_of_impact(colliders, j, t, dt);
                 }
             }

@@ -14,8 +14,9 @@ use super::{Key, PATCH_TOLERANCES, REST_FLOOR, RigidInput, RigidOutput, RigidRep
 
 impl RigidReplay {
     /// Pair `i` at time `t`: if its patch closes faster than the rest
-    /// speed, apply the law there, bend both paths and report the impact.
-    /// `None` when nothing happened (touching without closing, a body the
+    /// speed, apply the law there, bend both paths and report the impact;
+    /// returns whether each body's path was bent (an immovable or dominant
+    /// one's is not). `None` when nothing happened (touching without closing, a body the
     /// law does not take, data that cannot enter it).
     pub(super) fn impact(
         &mut self,
@@ -25,7 +26,7 @@ impl RigidReplay {
         colliders: &ColliderSet,
         i: usize,
         t: Real,
-    ) -> Option<()> {
+    ) -> Option<[bool; 2]> {
         let dt = input.frame.dt;
         let pair = self.pairs[i];
         let tolerance = self.tolerance(colliders, i);
@@ -84,7 +85,8 @@ impl RigidReplay {
             (pair.a, la.mass, impact.delta_v_a, impact.delta_omega_a),
             (pair.b, lb.mass, impact.delta_v_b, impact.delta_omega_b),
         ];
-        for (node, mass, dv, dw) in changes {
+        let mut bent = [false; 2];
+        for (k, (node, mass, dv, dw)) in changes.into_iter().enumerate() {
             let node = &mut self.nodes[node];
             // A dominant or immovable body's path stays as it is.
             if !node.dynamic || mass.is_infinite() {
@@ -95,6 +97,7 @@ impl RigidReplay {
             node.u += dv;
             node.omega += dw;
             node.hit = true;
+            bent[k] = true;
         }
         out.log.push(
             [pair.c1, pair.c2],
@@ -103,6 +106,6 @@ impl RigidReplay {
             Outcome::from(&impact),
             AppliedBy::Replay,
         );
-        Some(())
+        Some(bent)
     }
 }
