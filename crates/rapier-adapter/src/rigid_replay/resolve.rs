@@ -16,8 +16,8 @@ impl RigidReplay {
     /// Pair `i` at time `t`: if its patch closes faster than the rest
     /// speed, apply the law there, bend both paths and report the impact;
     /// returns whether each body's path was bent (an immovable or dominant
-    /// one's is not). `None` when nothing happened (touching without closing, a body the
-    /// law does not take, data that cannot enter it).
+    /// one's is not). `None` when nothing happened (touching without
+    /// closing, a body the law does not take, data that cannot enter it).
     pub(super) fn impact(
         &mut self,
         input: &RigidInput,
@@ -29,40 +29,8 @@ impl RigidReplay {
     ) -> Option<[bool; 2]> {
         let dt = input.frame.dt;
         let pair = self.pairs[i];
-        let tolerance = self.tolerance(colliders, i);
-        let mut manifolds = std::mem::take(&mut self.manifolds);
-        let (a, b) = (
-            self.mover(colliders, pair.a, pair.c1)?,
-            self.mover(colliders, pair.b, pair.c2)?,
-        );
+        let (point, n) = self.closing_patch(input, colliders, i, t)?;
         let (na, nb) = (&self.nodes[pair.a], &self.nodes[pair.b]);
-        let closes = |point: Vector, n: Vector| {
-            let w = nb.point_velocity(point, t, dt) - na.point_velocity(point, t, dt);
-            -w.dot(n) > 0.0
-        };
-        let depth = PATCH_TOLERANCES * tolerance;
-        let found = patch(
-            a.shape,
-            &a.pose_at(t),
-            b.shape,
-            &b.pose_at(t),
-            tolerance + depth,
-            depth,
-            closes,
-            &mut manifolds,
-        );
-        self.manifolds = manifolds;
-        let found = found?;
-        let (point, n) = (found.point, found.normal);
-        let (ua, ub) = (
-            na.point_velocity(point, t, dt),
-            nb.point_velocity(point, t, dt),
-        );
-        let approach = -(ub - ua).dot(n);
-        let floor = REST_FLOOR * (ua.length() + ub.length());
-        if !(approach > input.frame.rest_speed.max(floor) && approach.is_finite()) {
-            return None;
-        }
         // The masses as the law takes them (locked translations, dominance).
         let parent = |key: Key| match key {
             Key::Body(h) => Some(h),
@@ -107,5 +75,54 @@ impl RigidReplay {
             AppliedBy::Replay,
         );
         Some(bent)
+    }
+
+    /// The centroid and normal of pair `i`'s contact patch at time `t`, if
+    /// its material points there close faster than the rest speed (and a
+    /// floor relative to the bodies' speeds).
+    fn closing_patch(
+        &mut self,
+        input: &RigidInput,
+        colliders: &ColliderSet,
+        i: usize,
+        t: Real,
+    ) -> Option<(Vector, Vector)> {
+        let dt = input.frame.dt;
+        let pair = self.pairs[i];
+        let tolerance = self.tolerance(colliders, i);
+        let mut manifolds = std::mem::take(&mut self.manifolds);
+        let (a, b) = (
+            self.mover(colliders, pair.a, pair.c1)?,
+            self.mover(colliders, pair.b, pair.c2)?,
+        );
+        let (na, nb) = (&self.nodes[pair.a], &self.nodes[pair.b]);
+        let closes = |point: Vector, n: Vector| {
+            let w = nb.point_velocity(point, t, dt) - na.point_velocity(point, t, dt);
+            -w.dot(n) > 0.0
+        };
+        let depth = PATCH_TOLERANCES * tolerance;
+        let found = patch(
+            a.shape,
+            &a.pose_at(t),
+            b.shape,
+            &b.pose_at(t),
+            tolerance + depth,
+            depth,
+            closes,
+            &mut manifolds,
+        );
+        self.manifolds = manifolds;
+        let found = found?;
+        let (point, n) = (found.point, found.normal);
+        let (ua, ub) = (
+            na.point_velocity(point, t, dt),
+            nb.point_velocity(point, t, dt),
+        );
+        let approach = -(ub - ua).dot(n);
+        let floor = REST_FLOOR * (ua.length() + ub.length());
+        if !(approach > input.frame.rest_speed.max(floor) && approach.is_finite()) {
+            return None;
+        }
+        Some((point, n))
     }
 }
