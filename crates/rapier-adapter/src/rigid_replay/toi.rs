@@ -73,6 +73,24 @@ pub(crate) fn manifolds_at(
     }
 }
 
+/// [`manifolds_at`] of two movers at their poses at time `t`.
+fn movers_manifolds(
+    a: &Mover,
+    b: &Mover,
+    t: Real,
+    prediction: Real,
+    manifolds: &mut Vec<ContactManifold<(), ()>>,
+) {
+    manifolds_at(
+        a.shape,
+        &a.pose_at(t),
+        b.shape,
+        &b.pose_at(t),
+        prediction,
+        manifolds,
+    );
+}
+
 /// parry's distance of `a` (at `pa`) and `b` (at `pb`) if within `reach`:
 /// where a manifold lists no contact (parry's segment against a box, an end
 /// within 1e-8 of the face).
@@ -124,15 +142,7 @@ pub(crate) fn time_of_impact(
         return None;
     }
     if rewind {
-        let reach = tolerance.max(0.0);
-        manifolds_at(
-            a.shape,
-            &a.pose_at(from),
-            b.shape,
-            &b.pose_at(from),
-            reach,
-            manifolds,
-        );
+        movers_manifolds(a, b, from, tolerance.max(0.0), manifolds);
         if gap(manifolds).is_some_and(|d| d < -tolerance) {
             return Some(rewound(
                 a,
@@ -199,15 +209,8 @@ fn advance(
     let mut t = start;
     for _ in 0..MAX_ADVANCES {
         let reach = bound * (to - t) + tolerance;
-        manifolds_at(
-            a.shape,
-            &a.pose_at(t),
-            b.shape,
-            &b.pose_at(t),
-            reach,
-            manifolds,
-        );
         let (pa, pb) = (a.pose_at(t), b.pose_at(t));
+        manifolds_at(a.shape, &pa, b.shape, &pb, reach, manifolds);
         let d = gap(manifolds).or_else(|| distance(a.shape, &pa, b.shape, &pb, reach))?;
         if d <= tolerance {
             return Some((t, d));
@@ -239,14 +242,7 @@ fn rewound(
         + b.turn_bound() * (from - back)
         + tolerance;
     let apart = |t: Real, manifolds: &mut Vec<ContactManifold<(), ()>>| {
-        manifolds_at(
-            a.shape,
-            &a.pose_at(t),
-            b.shape,
-            &b.pose_at(t),
-            reach,
-            manifolds,
-        );
+        movers_manifolds(a, b, t, reach, manifolds);
         gap(manifolds).is_none_or(|d| d > 0.0)
     };
     if !apart(back, manifolds) {
