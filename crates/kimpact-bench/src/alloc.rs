@@ -1,17 +1,9 @@
 //! A counting global allocator around `std::alloc::System`: every
-//! allocation (and reallocation) on every thread.
-//!
-//! While [`attribute`] is on, every allocation is classified from its
-//! stack: the first frame in kimpact's sources (hook and replay included)
-//! before rapier's pipeline step makes it kimpact's, else it is rapier's.
-//! Each distinct stack is symbolized once (line tables needed; the release
-//! profile has them). `KIMPACT_BENCH_TRACE_ALLOCS=N` prints kimpact's `N`
-//! most frequent stacks.
-//!
-//! Why not a crate: `stats_alloc` counts allocations but cannot tell whose
-//! they are; `dhat` records stacks only into the file its profiler writes
-//! when dropped, and its author calls it experimental. The bench classifies
-//! each allocation in the process, against kimpact's source paths.
+//! allocation (and reallocation) on every thread. While [`attribute`] is
+//! on, each is classified from its stack ([`kimpact_harness::is_kimpact`]),
+//! each distinct stack symbolized once (the release profile has line
+//! tables). Not `stats_alloc` (it cannot tell whose an allocation is) nor
+//! `dhat` (it records stacks only into its profile file).
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
@@ -20,7 +12,6 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering::Relaxed};
 
 static COUNT: AtomicU64 = AtomicU64::new(0);
-
 static ATTRIBUTING: AtomicBool = AtomicBool::new(false);
 /// Distinct stacks by frame addresses: whether kimpact's, the frames'
 /// paths and how many allocations had it.
@@ -48,10 +39,9 @@ fn counted() {
 /// Classify this allocation; `false` for the classifier's own.
 #[cold]
 fn sample() -> bool {
-    if IN_TRACE.with(|t| t.get()) {
+    if IN_TRACE.with(|t| t.replace(true)) {
         return false;
     }
-    IN_TRACE.with(|t| t.set(true));
     let mut ips = [0usize; DEPTH];
     let mut len = 0;
     backtrace::trace(|frame| {
@@ -76,12 +66,9 @@ fn symbolize(ips: &[usize]) -> Vec<String> {
     let mut paths = Vec::new();
     for &ip in ips {
         backtrace::resolve(ip as *mut std::ffi::c_void, |symbol| {
-            let file = symbol.filename().map(|f| f.display().to_string());
             let line = symbol.lineno().unwrap_or(0);
-            paths.push(match file {
-                Some(f) => format!("{f}:{line}"),
-                None => "?".to_owned(),
-            });
+            let path = symbol.filename().map(|f| format!("{}:{line}", f.display()));
+            paths.push(path.unwrap_or_else(|| "?".to_owned()));
         });
     }
     paths

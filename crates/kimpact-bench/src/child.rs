@@ -43,19 +43,17 @@ fn child_args(cli: &Cli, solo: bool, (scene, balls, precision): Config, mode: Mo
         true => (cli.memory_steps, cli.memory_warmup.unwrap_or(cli.warmup)),
         false => (cli.steps, cli.warmup),
     };
-    // A small scene (of fixed size): a step of microseconds, timed by whole
-    // blocks.
     let small = scene.small();
-    let (block, repeats) = match (small, solo) {
-        (true, false) => (cli.small_block, cli.small_repeats),
-        (true, true) => (cli.small_block, 1),
-        (false, _) => (cli.block, 1),
-    };
+    let block = if small { cli.small_block } else { cli.block };
+    let repeats = if small && !solo { cli.small_repeats } else { 1 };
     let kind = if solo { "--solo" } else { "--pair" };
     let scene = name(scene);
+    let threads = cli.threads.map(|n| format!(" --threads {n}"));
+    let effect = cli.effect.map(|e| format!(" --effect {}", name(e)));
+    let (threads, effect) = (threads.unwrap_or_default(), effect.unwrap_or_default());
     let args = format!(
         "{kind} --scene {scene} --mode {mode} --precision {precision} --balls {balls} \
-         --steps {steps} --warmup {warmup} --block {block} --repeats {repeats}"
+         --steps {steps} --warmup {warmup} --block {block} --repeats {repeats}{threads}{effect}"
     );
     let mut args: Vec<String> = args.split(' ').map(str::to_owned).collect();
     let flags = [
@@ -64,12 +62,6 @@ fn child_args(cli: &Cli, solo: bool, (scene, balls, precision): Config, mode: Mo
         (solo && !cli.no_attribute, "--attribute"),
     ];
     args.extend(flags.iter().filter(|f| f.0).map(|f| f.1.to_owned()));
-    if let Some(threads) = cli.threads {
-        args.extend(["--threads".to_owned(), threads.to_string()]);
-    }
-    if let Some(effect) = cli.effect {
-        args.extend(["--effect".to_owned(), name(effect)]);
-    }
     args
 }
 
@@ -77,16 +69,10 @@ fn child_args(cli: &Cli, solo: bool, (scene, balls, precision): Config, mode: Mo
 /// mode (native against itself when there is none), then each mode alone;
 /// a child that fails is reported and kept as its error.
 pub fn measure_group(cli: &Cli, config: Config, modes: &[Mode], progress: impl Fn(&str)) -> Group {
-    let law: Vec<Mode> = modes
-        .iter()
-        .copied()
-        .filter(|&m| m != Mode::Native)
-        .collect();
-    let timed = if law.is_empty() {
-        vec![Mode::Native]
-    } else {
-        law
-    };
+    let mut timed = Vec::from_iter(modes.iter().copied().filter(|&m| m != Mode::Native));
+    if timed.is_empty() {
+        timed.push(Mode::Native);
+    }
     let mut pairs = Vec::new();
     for _ in 0..cli.rounds.max(1) {
         for &mode in &timed {

@@ -1,5 +1,4 @@
-//! The command line: the scenes, the effects table's configurations and
-//! every option, the hidden ones a child process is given included.
+//! The command line, the hidden options of a child process included.
 
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
@@ -16,9 +15,7 @@ pub fn name(value: impl ValueEnum) -> String {
 }
 
 /// The bench scenes.
-#[derive(
-    Copy, Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, ValueEnum, Serialize, Deserialize,
-)]
+#[derive(Copy, Clone, Debug, PartialEq, Eq, PartialOrd, Ord, ValueEnum, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 #[value(rename_all = "lower")]
 pub enum Scene {
@@ -75,13 +72,9 @@ impl Scene {
     }
 }
 
-/// A configuration of the effects table (`--effects`): its base, the gas
-/// scenes' balls with no effect at all (no gravity, `d̃ = 0`, no friction,
-/// no spin, no walls, nobody reading the impact events, no material), or
-/// the base with one effect on.
-#[derive(
-    Copy, Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, ValueEnum, Serialize, Deserialize,
-)]
+/// A configuration of the effects table (`--effects`): the base (the gas
+/// scenes' balls with no effect at all), or the base with one effect on.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, PartialOrd, Ord, ValueEnum, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 #[value(rename_all = "lower")]
 pub enum Effect {
@@ -95,25 +88,21 @@ pub enum Effect {
     Friction,
     /// Every ball spinning about z at up to 6 rad/s.
     Spin,
-    /// The gas scenes' closed box of fixed walls (the base with it is the
-    /// gas scene).
+    /// The gas scenes' closed box of fixed walls (with it, the gas scene).
     Walls,
     /// The user reads every impact event after each step (timed).
     Events,
-    /// Every ball marked with its own material (`Kimpact::mark_with`,
-    /// `d̃ = d̃_w = 0`, so that only the path through materials differs).
+    /// Every ball marked with a material of `d̃ = d̃_w = 0` (only the path
+    /// through materials differs).
     Materials,
-    /// The spin configuration with impact friction switched on: every ball
-    /// marked with a material of `d̃ = d̃_w = 0`, `μ = 0.5`, `β = 0`
-    /// (`Material::with_impact_friction`). Off, friction is the spin and
-    /// materials rows.
+    /// Spin, every ball marked with a material of `d̃ = d̃_w = 0` and impact
+    /// friction `μ = 0.5`, `β = 0`.
     #[serde(rename = "impact_friction")]
     #[value(name = "impact_friction")]
     ImpactFriction,
 }
 
-/// `--hook-native` of this process, read by the scenes when they build
-/// their marked colliders.
+/// `--hook-native` of this process, for the scenes' marked colliders.
 pub static HOOK_NATIVE: AtomicBool = AtomicBool::new(false);
 
 /// The kimpact benchmark matrix: time per step against native rapier,

@@ -1,8 +1,7 @@
-//! `--effects`: what each effect a scene can call for costs in every law
-//! mode. Every configuration of the table (the base, and the base with one
-//! effect on: see [`Effect`]) is a group of children as the matrix's, timed
-//! in lockstep with native rapier on the same configuration; each row sets
-//! what the mode adds to native's step beside what it adds on the base.
+//! `--effects`: what each effect a scene can call for (see [`Effect`])
+//! costs in every law mode: each configuration is a group of children as
+//! the matrix's; each row sets what the mode adds to native's step beside
+//! what it adds on the base.
 
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
@@ -15,7 +14,7 @@ use kimpact::Mode;
 
 use crate::cli::{Effect, name};
 use crate::raw::{Group, Raw};
-use crate::report::{self, fmt_us};
+use crate::report::{self, fmt_or_unknown, fmt_us};
 
 /// The table's rows: every law mode of every configuration.
 pub fn rows(groups: &[Group]) -> Vec<EffectRow> {
@@ -55,56 +54,31 @@ pub fn rows(groups: &[Group]) -> Vec<EffectRow> {
 /// One scene's effects table as markdown.
 fn markdown(raw: &Raw, rows: &[&EffectRow]) -> String {
     let (h, c) = (&raw.header, &raw.header.cli);
-    let mut s = format!(
-        "## kimpact-bench effects: {}\n\n- command: `{}`\n- machine: {}\n",
-        rows.first().map_or("", |r| &r.scene),
-        h.command,
-        h.machine
-    );
+    let scene = rows.first().map_or("", |r| &r.scene);
+    let mut s = report::heading(h, &format!("effects: {scene}"));
+    let (warmup, steps, block, rounds) = (c.warmup, c.steps, c.block, c.rounds.max(1));
+    let (memory_steps, memory_warmup) = (c.memory_steps, c.memory_warmup.unwrap_or(warmup));
+    let wall_s = h.wall_s;
     let _ = writeln!(
         s,
-        "- base: the gas scene's balls with no effect at all (no gravity, d̃ = 0, no friction, no spin, no walls, nobody reading the impact events, no material); each other configuration switches one effect on. Each timing run is one process stepping native rapier and one mode on two copies of the configuration in lockstep ({} warm-up steps, then {} measured steps each, alternated in blocks of {}); {} timing run(s) per mode and configuration; allocations attributed in a separate process per mode ({} steps after {} warm-up steps); wall time {:.0} s",
-        c.warmup,
-        c.steps,
-        c.block,
-        c.rounds.max(1),
-        c.memory_steps,
-        c.memory_warmup.unwrap_or(c.warmup),
-        h.wall_s
+        "- base: the gas scene's balls with no effect at all (no gravity, d̃ = 0, no friction, no spin, no walls, nobody reading the impact events, no material); each other configuration switches one effect on. Each timing run is one process stepping native rapier and one mode on two copies of the configuration in lockstep ({warmup} warm-up steps, then {steps} measured steps each, alternated in blocks of {block}); {rounds} timing run(s) per mode and configuration; allocations attributed in a separate process per mode ({memory_steps} steps after {memory_warmup} warm-up steps); wall time {wall_s:.0} s"
     );
     s += "- impact_friction: the spin configuration with every ball marked with a material of μ = 0.5, β = 0 (impact friction on); off, it is the spin row (no material) and the materials row (a material without impact friction)\n";
     s += "- native and mode: median CPU time per step in the configuration's timing runs; ×native: their ratio; added: mode − native, what the mode adds to rapier's step; effect: added − the base's added in the same mode, what the effect costs kimpact; kimpact's allocs/step: attributed from their stacks (? when not)\n\n";
     s += "| prec | balls | effect | mode | native | mode | ×native | added | effect | kimpact's allocs/step | impacts/step | notes |\n";
     s += "|---|---:|---|---|---:|---:|---:|---:|---:|---:|---:|---|\n";
     for r in rows {
+        let (precision, balls, effect, mode) = (r.precision, r.balls, &r.effect, r.mode);
+        let (native_us, mode_us) = (fmt_us(r.native_median_us), fmt_us(r.median_us));
+        let (ratio, added, effect_us) = (r.ratio, r.delta_us, r.effect_us);
+        let allocs = fmt_or_unknown(r.kimpact_allocs_per_step, 2);
+        let (impacts, notes) = (r.impacts_per_step, r.error.as_deref().unwrap_or_default());
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {} | {} | {:.3} | {:+.2} µs | {:+.2} µs | {} | {:.2} | {} |",
-            r.precision,
-            r.balls,
-            r.effect,
-            r.mode,
-            fmt_us(r.native_median_us),
-            fmt_us(r.median_us),
-            r.ratio,
-            r.delta_us,
-            r.effect_us,
-            allocs_cell(r.kimpact_allocs_per_step),
-            r.impacts_per_step,
-            r.error.as_deref().unwrap_or_default()
+            "| {precision} | {balls} | {effect} | {mode} | {native_us} | {mode_us} | {ratio:.3} | {added:+.2} µs | {effect_us:+.2} µs | {allocs} | {impacts:.2} | {notes} |"
         );
     }
     s
-}
-
-/// kimpact's allocations per step, or `?` when they were not attributed
-/// (`--no-attribute`: the row holds NaN).
-fn allocs_cell(allocs: f64) -> String {
-    if allocs.is_finite() {
-        format!("{allocs:.2}")
-    } else {
-        "?".to_owned()
-    }
 }
 
 /// Print each scene's effects table and write it into

@@ -1,12 +1,8 @@
 //! `kimpact-bench`: what each accuracy level costs against native rapier.
-//!
-//! Each law mode of each scene, size and precision gets timing runs (a
-//! child process stepping native and the mode in lockstep, in blocks) and a
-//! memory run (the mode alone: peak RSS, then its allocations attributed to
-//! kimpact or rapier from their stacks). The parent prints a markdown table
-//! and writes `results.csv` (rows of [`kimpact_harness::BenchRow`]),
-//! `results.md`, `raw.json` and scaling plots. It reports figures and
-//! judges none.
+//! Each law mode of each scene, size and precision gets timing runs (a child
+//! process stepping native and the mode in lockstep) and a memory run (the
+//! mode alone); the parent writes `results.md`, `results.csv`, `raw.json`
+//! and scaling plots.
 // `f64::from(x)` converts in the f32 builds and is the identity in the f64 ones.
 #![allow(clippy::useless_conversion, clippy::unnecessary_cast)]
 
@@ -73,29 +69,25 @@ fn main() -> ExitCode {
                 Some(n) => BTreeSet::from([n]),
                 None => BTreeSet::from_iter(cli.balls.iter().copied()),
             };
-            for (balls, &effect) in sizes
-                .into_iter()
-                .flat_map(|n| effects.iter().map(move |e| (n, e)))
-            {
-                let progress = |what: &str| {
-                    let (t, s) = (started.elapsed().as_secs_f64(), name(scene));
-                    let e = effect.map(|e| format!(", {}", name(e))).unwrap_or_default();
-                    eprintln!("[{t:>6.1}s] {precision} {s} {balls} balls{e}: {what}");
-                };
-                let config = (scene, balls, precision);
-                let cli = Cli {
-                    effect,
-                    ..cli.clone()
-                };
-                groups.push(child::measure_group(&cli, config, &modes, progress));
+            for balls in sizes {
+                for &effect in &effects {
+                    let progress = |what: &str| {
+                        let (t, s) = (started.elapsed().as_secs_f64(), name(scene));
+                        let e = effect.map(|e| format!(", {}", name(e))).unwrap_or_default();
+                        eprintln!("[{t:>6.1}s] {precision} {s} {balls} balls{e}: {what}");
+                    };
+                    let config = (scene, balls, precision);
+                    let mut cli = cli.clone();
+                    cli.effect = effect;
+                    groups.push(child::measure_group(&cli, config, &modes, progress));
+                }
             }
         }
     }
     let args: Vec<String> = std::env::args().skip(1).collect();
+    let command = format!("kimpact-bench {}", args.join(" "));
     let header = raw::Header {
-        command: format!("kimpact-bench {}", args.join(" "))
-            .trim_end()
-            .to_owned(),
+        command: command.trim_end().to_owned(),
         cli: cli.clone(),
         machine: kimpact_harness::machine(),
         parallel: cfg!(feature = "parallel"),

@@ -5,28 +5,19 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 /// `VmHWM` from `/proc/self/status`, in KiB (0 where there is none).
 pub fn peak_rss_kib() -> u64 {
-    std::fs::read_to_string("/proc/self/status")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find_map(|l| l.strip_prefix("VmHWM:"))
-                .and_then(|v| v.trim().trim_end_matches("kB").trim().parse().ok())
-        })
-        .unwrap_or(0)
+    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    let hwm = status.lines().find_map(|l| l.strip_prefix("VmHWM:"));
+    let kib = hwm.map(|v| v.trim().trim_end_matches("kB").trim());
+    kib.and_then(|v| v.parse().ok()).unwrap_or(0)
 }
 
 /// Whether steps are timed by the wall clock (`--threads`: the CPU time of
 /// a pool of threads is their sum, not the step's duration).
-static WALL_CLOCK: AtomicBool = AtomicBool::new(false);
-
-/// Time steps by the wall clock from now on.
-pub fn time_by_wall_clock() {
-    WALL_CLOCK.store(true, Ordering::Relaxed);
-}
+pub static WALL_CLOCK: AtomicBool = AtomicBool::new(false);
 
 /// The clock steps are timed by, in microseconds: CPU time used by this
-/// process so far (all threads), or after [`time_by_wall_clock`] the
-/// monotonic wall clock.
+/// process so far (all threads), or with [`WALL_CLOCK`] the monotonic wall
+/// clock.
 pub fn step_clock_us() -> f64 {
     let mut ts = libc::timespec {
         tv_sec: 0,

@@ -37,47 +37,36 @@ pub struct Solo {
     pub attributed: Option<(u64, u64)>,
 }
 
-/// The runs of one scene, size and precision.
+/// The runs of one scene, size, precision and effect (`None`: the
+/// matrix's scene), of every mode (native first): timing children, then
+/// memory children.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Group {
-    /// The scene.
     pub scene: Scene,
-    /// The precision.
     pub precision: Precision,
-    /// Its balls (as asked: a small scene's own count).
     pub balls: usize,
-    /// The effects table's configuration (`None`: the matrix's scene).
     #[serde(default)]
     pub effect: Option<Effect>,
-    /// Every mode of the table (native first).
     pub modes: Vec<Mode>,
-    /// Timing children: native and a mode in lockstep.
     pub pairs: Vec<(Mode, Result<Pair, String>)>,
-    /// Memory children: each mode alone.
     pub solos: Vec<(Mode, Result<Solo, String>)>,
 }
 
-/// What the table's header says about the run.
+/// What the table's header says about the run: the command line and its
+/// options, the machine, whether rapier's `parallel` feature was on, and
+/// the run's wall time (s).
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Header {
-    /// The command line, and its options.
     pub command: String,
-    /// See `command`.
     pub cli: Cli,
-    /// The machine.
     pub machine: String,
-    /// Whether rapier's `parallel` feature was on.
     pub parallel: bool,
-    /// Wall time of the whole run, s.
     pub wall_s: f64,
 }
 
-/// Everything a run measured: `raw.json` in the output folder, from which
-/// `--rerender` rebuilds the table, the CSV and the plots.
+/// Everything a run measured: `raw.json` in the output folder.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Raw {
-    /// The run.
     pub header: Header,
-    /// Its groups.
     pub groups: Vec<Group>,
 }

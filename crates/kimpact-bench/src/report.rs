@@ -7,7 +7,7 @@ use std::process::ExitCode;
 use kimpact::Mode;
 use kimpact_harness::{BenchRow, Method, Panel, write_files};
 
-use crate::cli::{Cli, name};
+use crate::cli::name;
 use crate::raw::{Group, Header, Measure, Pair, Raw};
 
 /// The median of `v` (the upper middle value of an even count; NaN for
@@ -33,31 +33,19 @@ fn per_step(runs: &[&Measure], f: impl Fn(&Measure) -> u64) -> f64 {
 
 /// The rows of one group (one per mode).
 pub fn rows(g: &Group) -> Vec<BenchRow> {
-    let ok = |mode: Option<Mode>| -> Vec<&Pair> {
-        let mine = g
-            .pairs
-            .iter()
-            .filter(|(m, _)| mode.is_none_or(|mode| *m == mode));
-        mine.filter_map(|(_, p)| p.as_ref().ok()).collect()
-    };
-    let all_native: Vec<&Measure> = ok(None).into_iter().map(|p| &p.native).collect();
-    let solo = |mode| {
-        g.solos
-            .iter()
-            .find(|(m, _)| *m == mode)
-            .map(|(_, s)| s.as_ref())
-    };
+    let all = g.pairs.iter();
+    let ok = all.clone().filter_map(|p| Some((p.0, p.1.as_ref().ok()?)));
+    let ok: Vec<(Mode, &Pair)> = ok.collect();
+    let all_native: Vec<&Measure> = ok.iter().map(|p| &p.1.native).collect();
+    let solo = |mode| Some(g.solos.iter().find(|(m, _)| *m == mode)?.1.as_ref());
     let row = |mode| {
-        let mine = ok(Some(mode));
+        let mine: Vec<&Pair> = ok.iter().filter(|p| p.0 == mode).map(|p| p.1).collect();
         // This mode's measures and native's from the same processes.
         let (law, native): (Vec<&Measure>, Vec<&Measure>) = match mode {
             Mode::Native => (all_native.clone(), all_native.clone()),
             _ => mine.iter().map(|p| (&p.law, &p.native)).unzip(),
         };
-        let failed = g
-            .pairs
-            .iter()
-            .filter(|(m, _)| mode == Mode::Native || *m == mode);
+        let failed = all.clone().filter(|p| mode == Mode::Native || p.0 == mode);
         let error = failed.filter_map(|(_, p)| p.as_ref().err().cloned()).next();
         let memory_error = || Some(format!("memory run: {}", solo(mode)?.err()?));
         let round = |p: &&Pair| median_of([&p.law]) / median_of([&p.native]);
@@ -109,22 +97,29 @@ pub fn fmt_us(us: f64) -> String {
     }
 }
 
+/// `x` with `digits` decimals, or `?` when it is not a number (allocations
+/// not attributed).
+pub fn fmt_or_unknown(x: f64, digits: usize) -> String {
+    match x.is_finite() {
+        true => format!("{x:.digits$}"),
+        false => "?".to_owned(),
+    }
+}
+
+/// The title of a report and the run's command and machine.
+pub fn heading(h: &Header, title: &str) -> String {
+    let (command, machine) = (&h.command, &h.machine);
+    format!("## kimpact-bench {title}\n\n- command: `{command}`\n- machine: {machine}\n")
+}
+
 /// The whole report as markdown.
 pub fn markdown(h: &Header, rows: &[BenchRow]) -> String {
-    let Cli {
-        warmup,
-        steps,
-        block,
-        memory_steps,
-        small_block,
-        small_repeats,
-        ..
-    } = h.cli;
-    let (rounds, memory_warmup) = (h.cli.rounds.max(1), h.cli.memory_warmup.unwrap_or(warmup));
-    let (command, machine, wall_s) = (&h.command, &h.machine, h.wall_s);
-    let parallel = if h.parallel { "on" } else { "off" };
-    let mut s =
-        format!("## kimpact-bench results\n\n- command: `{command}`\n- machine: {machine}\n");
+    let c = &h.cli;
+    let (warmup, steps, block, memory_steps) = (c.warmup, c.steps, c.block, c.memory_steps);
+    let (small_block, small_repeats) = (c.small_block, c.small_repeats);
+    let (rounds, memory_warmup) = (c.rounds.max(1), c.memory_warmup.unwrap_or(warmup));
+    let (wall_s, parallel) = (h.wall_s, if h.parallel { "on" } else { "off" });
+    let mut s = heading(h, "results");
     s += &format!(
         "- rapier `parallel`: {parallel}; each timing run is one process stepping native rapier and one mode on two copies of the scene in lockstep: {warmup} warm-up steps each, then {steps} measured steps each, alternated in blocks of {block} (native, mode, native, mode…); {rounds} timing run(s) per mode; peak RSS and the attribution of allocations from a separate process per mode running alone ({memory_steps} steps after {memory_warmup} warm-up steps); wall time {wall_s:.0} s\n"
     );
@@ -146,19 +141,9 @@ pub fn markdown(h: &Header, rows: &[BenchRow]) -> String {
             true => (String::new(), String::new()),
             false => (fmt_us(r.native_median_us), format!("{:+.2} µs", r.delta_us)),
         };
-        let own = match r.kimpact_allocs_per_step.is_finite() {
-            true => format!("{:.1}", r.kimpact_allocs_per_step),
-            false => "?".to_owned(),
-        };
-        let BenchRow {
-            scene,
-            precision,
-            balls,
-            mode,
-            allocs_per_step,
-            peak_rss_mib,
-            ..
-        } = r;
+        let own = fmt_or_unknown(r.kimpact_allocs_per_step, 1);
+        let (scene, precision, balls, mode) = (&r.scene, r.precision, r.balls, r.mode);
+        let (allocs_per_step, peak_rss_mib) = (r.allocs_per_step, r.peak_rss_mib);
         let (time, impacts) = (fmt_us(r.median_us), r.impacts_per_step);
         let notes = r.error.as_deref().unwrap_or_default();
         s += &format!(
@@ -174,11 +159,8 @@ fn scaling_svg(rows: &[&BenchRow]) -> Option<Result<String, String>> {
     let sizes = BTreeSet::from_iter(rows.iter().map(|r| r.balls));
     let series = Mode::ALL.map(|m| {
         let mine = rows.iter().filter(|r| r.mode == m);
-        (
-            Method::Rapier(m),
-            mine.map(|r| (r.balls as f64, r.median_us / 1000.0))
-                .collect(),
-        )
+        let points = mine.map(|r| (r.balls as f64, r.median_us / 1000.0));
+        (Method::Rapier(m), points.collect())
     });
     let r = rows.first()?;
     let parallel = if r.parallel { ", parallel" } else { "" };
@@ -204,13 +186,11 @@ pub fn csv<T: serde::Serialize>(rows: &[T]) -> Vec<u8> {
 
 /// Write `files` whole (`write_files`), saying so on stderr.
 pub fn write(dir: &Path, files: &[(PathBuf, Vec<u8>)]) -> ExitCode {
-    match write_files(files) {
-        Ok(()) => eprintln!("wrote {}", dir.display()),
-        Err(e) => {
-            eprintln!("{e}");
-            return ExitCode::FAILURE;
-        }
+    if let Err(e) = write_files(files) {
+        eprintln!("{e}");
+        return ExitCode::FAILURE;
     }
+    eprintln!("wrote {}", dir.display());
     ExitCode::SUCCESS
 }
 

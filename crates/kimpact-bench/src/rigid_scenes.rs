@@ -1,32 +1,13 @@
-// The rigid-body scenes of the bench (dice, dominoes): marked boxes, whose
-// impacts every law mode governs as rigid bodies (the hook's path at the
-// manifold's contact). Included after scene.rs into the same modules.
+// The rigid-body scenes (marked boxes, whose impacts every law mode governs
+// as rigid bodies). Included after scene.rs into the same modules.
 
 impl Bench {
-    /// A marked box of half-extents `he` and mass `mass` on `body`.
-    fn marked_box(&mut self, body: RigidBodyBuilder, he: Vector, mass: Real, material: Material) {
-        let collider = cuboid(he)
-            .mass(mass)
-            .friction(material.0)
-            .restitution(material.1);
-        let collider = self.hooked_if_asked(collider);
-        let (_, c) = self.world.insert(body, collider);
-        self.kimpact
-            .mark(&self.world.colliders, c)
-            .expect("inserted just above");
-    }
-
     /// 3D dice, the bundled `scenes/dice3d.ron` at scale: `count` cubes
-    /// (edges 10 and 16 cm at 1 g/cm³: 1 and 4.096 kg, alternately) on a
-    /// grid 0.4 m apart filling a closed box, thrown with random
-    /// orientations, velocities up to 2 m/s and spins up to 9 rad/s about
-    /// every axis under gravity; friction 0.4 and restitution 0.5 on dice
-    /// and walls, the law `LawParams::from_restitution(0.5, 0.5)`, sleeping
-    /// allowed.
+    /// (edges 10 and 16 cm at 1 g/cm³, alternately) on a grid filling a
+    /// closed box, thrown with random orientations, velocities (≤ 2 m/s)
+    /// and spins (≤ 9 rad/s) under gravity; restitution 0.5 everywhere.
     fn dice(mode: Mode, count: usize, rng: &mut Xoshiro256PlusPlus) -> Self {
-        let params = LawParams::from_restitution(0.5, 0.5).expect("restitutions in [0, 1]");
-        let mut b = Self::new(mode, params.dissipation, -Vector::Y * 9.81);
-        b.kimpact.set_law(params).expect("valid law parameters");
+        let mut b = Self::new(mode, Law::from_restitution(0.5, 0.5), -Vector::Y * 9.81);
         let material = (0.4, 0.5);
         let spacing = 0.4;
         let side = per_side(count);
@@ -37,7 +18,7 @@ impl Bench {
         let mut uniform = |scale: Real| scale * rng.random_range(-1.0..1.0) as Real;
         let pi = std::f64::consts::PI as Real;
         for i in 0..count {
-            let (half, mass) = if i % 2 == 0 { (0.05, 1.0) } else { (0.08, 4.096) };
+            let (half, mass) = [(0.05, 1.0), (0.08, 4.096)][i % 2];
             let rotation = xyz(uniform(pi), uniform(pi), uniform(pi));
             let velocity = random_vector(&mut rng_velocity, 2.0);
             let spin = xyz(uniform(9.0), uniform(9.0), uniform(9.0));
@@ -46,22 +27,17 @@ impl Bench {
                 .rotation(rotation)
                 .linvel(velocity)
                 .angvel(spin);
-            b.marked_box(body, Vector::splat(half), mass, material);
+            b.mark(body, cuboid(Vector::splat(half)), mass, material);
         }
         b
     }
 
     /// 2D dominoes, the bundled `scenes/dominoes2d.ron` in rows: `count`
-    /// dominoes (2 × 10 cm, 10 g, friction 0.5) standing 6 cm apart in
-    /// rows of 20 along one fixed floor (rows 0.4 m apart), the first of
-    /// each row turning at 10 rad/s, so that every row topples; gravity,
-    /// steps of 1/120 s, restitution 0.3 on dominoes and floor and the law
-    /// `LawParams::from_restitution(0.3, 0.3)`, as the bundled scene,
-    /// sleeping allowed.
+    /// dominoes (2 × 10 cm, 10 g) 6 cm apart in rows of 20 on one floor, the
+    /// first of each row turning at 10 rad/s so that every row topples;
+    /// steps of 1/120 s, restitution 0.3 everywhere.
     fn dominoes(mode: Mode, count: usize) -> Self {
-        let params = LawParams::from_restitution(0.3, 0.3).expect("restitutions in [0, 1]");
-        let mut b = Self::new(mode, params.dissipation, -Vector::Y * 9.81);
-        b.kimpact.set_law(params).expect("valid law parameters");
+        let mut b = Self::new(mode, Law::from_restitution(0.3, 0.3), -Vector::Y * 9.81);
         b.world.integration_parameters.dt = 1.0 / 120.0;
         let material = (0.5, 0.3);
         let (per_row, pitch) = (20usize, 0.06);
@@ -72,8 +48,8 @@ impl Bench {
         let mut floor = Vector::splat(1.0);
         (floor[0], floor[1]) = (half_floor, 0.05);
         let body = RigidBodyBuilder::fixed().translation(-Vector::Y * 0.05);
-        b.world
-            .insert(body, cuboid(floor).friction(material.0).restitution(material.1));
+        let floor = cuboid(floor).friction(material.0).restitution(material.1);
+        b.world.insert(body, floor);
         let mut he = Vector::splat(0.05);
         he[0] = 0.01;
         for i in 0..count {
@@ -83,7 +59,7 @@ impl Bench {
             if j == 0 {
                 body = body.angvel(about_z(-10.0));
             }
-            b.marked_box(body, he, 0.01, material);
+            b.mark(body, cuboid(he), 0.01, material);
         }
         b
     }

@@ -3,9 +3,9 @@
 
 use std::sync::atomic::Ordering;
 
-use k::math::{DIM, Real, Vector};
+use k::math::{DIM, Vector};
 use k::rapier::prelude::*;
-use k::{Kimpact, Law, LawParams, Mode};
+use k::{Kimpact, Law, LawError, LawParams, Mode};
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
 
@@ -24,11 +24,8 @@ fn random_vector(rng: &mut Xoshiro256PlusPlus, speed: Real) -> Vector {
 
 /// The smallest `k` with `k^DIM >= n` (balls per side of a grid).
 fn per_side(n: usize) -> usize {
-    let mut side = 1usize;
-    while side.pow(DIM as u32) < n {
-        side += 1;
-    }
-    side
+    let fits = |side: &usize| side.pow(DIM as u32) >= n;
+    (1usize..).find(fits).expect("some side fits")
 }
 
 /// Cell `i` of a `side`-per-axis grid of pitch `spacing` about the origin.
@@ -62,9 +59,10 @@ fn xy(x: Real, y: Real) -> Vector {
 pub struct Bench {
     world: PhysicsWorld,
     kimpact: Kimpact,
-    /// Kinematic bodies driven by the scene before each step.
-    drives: Vec<Drive>,
-    /// Simulated time, for the drives.
+    /// The flippers (kinematic bodies) and their signs, swung before each
+    /// step at `sign · 0.45 · (2π/0.25) · sin(2π t/0.25)` rad/s.
+    flippers: Vec<(RigidBodyHandle, Real)>,
+    /// Simulated time, for the flippers.
     time: Real,
     /// Whether the user reads the impact events after each step.
     read_events: bool,
@@ -72,40 +70,26 @@ pub struct Bench {
     own_material: Option<k::Material>,
 }
 
-/// A kinematic body swung at the angular velocity
-/// `sign · amplitude · (2π/period) · sin(2π t/period)`.
-struct Drive {
-    body: RigidBodyHandle,
-    amplitude: Real,
-    period: Real,
-    sign: Real,
-}
-
 impl Bench {
-    fn new(mode: Mode, dissipation: Real, gravity: Vector) -> Self {
+    /// A scene's empty world, its `law` from the scene's own (valid)
+    /// constants.
+    fn new(mode: Mode, law: Result<Law<Real>, LawError>, gravity: Vector) -> Self {
         let mut world = PhysicsWorld::new();
         world.gravity = gravity;
-        let law = Law::new(LawParams {
-            dissipation,
-            ..Default::default()
-        })
-        .expect("valid law parameters");
         Self {
             world,
-            kimpact: Kimpact::new(law, mode),
-            drives: Vec::new(),
+            kimpact: Kimpact::new(law.expect("valid law parameters"), mode),
+            flippers: Vec::new(),
             time: 0.0,
             read_events: false,
             own_material: None,
         }
     }
 
-    /// A marked ball.
-    fn ball(&mut self, body: RigidBodyBuilder, radius: Real, mass: Real, material: Material) {
-        let collider = ColliderBuilder::ball(radius)
-            .mass(mass)
-            .friction(material.0)
-            .restitution(material.1);
+    /// A marked collider `shape` of mass `mass` on `body` (marked with the
+    /// scene's own material if it has one).
+    fn mark(&mut self, body: RigidBodyBuilder, shape: ColliderBuilder, mass: Real, m: Material) {
+        let collider = shape.mass(mass).friction(m.0).restitution(m.1);
         let collider = self.hooked_if_asked(collider);
         let (_, c) = self.world.insert(body, collider);
         let marked = match self.own_material {
@@ -133,13 +117,9 @@ impl Bench {
                 center[axis] = sign * (half[axis] + t);
                 let mut he = half + Vector::splat(2.0 * t);
                 he[axis] = t;
-                let b = self
-                    .world
-                    .insert_body(RigidBodyBuilder::fixed().translation(center));
-                let collider = cuboid(he)
-                    .friction(material.0)
-                    .restitution(material.1);
-                self.world.insert_collider(collider, Some(b));
+                let body = RigidBodyBuilder::fixed().translation(center);
+                let collider = cuboid(he).friction(material.0).restitution(material.1);
+                self.world.insert(body, collider);
             }
         }
     }
@@ -151,7 +131,7 @@ impl Bench {
         match scene {
             Scene::Pit2d | Scene::Pit3d => {
                 // Mixed masses dropped on a grid filling a closed box.
-                let mut b = Self::new(mode, 0.09, -Vector::Y * 9.81);
+                let mut b = Self::new(mode, Law::with_dissipation(0.09), -Vector::Y * 9.81);
                 let material = (0.3, 0.5);
                 let (r, spacing) = (0.25, 0.8);
                 let side = per_side(balls);
@@ -160,14 +140,15 @@ impl Bench {
                     let body = RigidBodyBuilder::dynamic()
                         .translation(grid_point(i, side, spacing))
                         .linvel(random_vector(&mut rng, 1.0));
-                    b.ball(body, r, [1.0, 2.0, 0.5][i % 3], material);
+                    let mass = [1.0, 2.0, 0.5][i % 3];
+                    b.mark(body, ColliderBuilder::ball(r), mass, material);
                 }
                 b
             }
             Scene::Gas2d | Scene::Gas3d => Self::effect(Effect::Walls, balls, mode),
             Scene::Billiards => {
                 // 15 racked balls and the cue ball, cloth as damping, CCD.
-                let mut b = Self::new(mode, 0.012, Vector::ZERO);
+                let mut b = Self::new(mode, Law::with_dissipation(0.012), Vector::ZERO);
                 let ball = (0.0, 0.95);
                 let cushion = (0.0, 0.9);
                 let (r, m) = (0.028575, 0.17);
@@ -176,12 +157,13 @@ impl Bench {
                 let foot = 0.635;
                 for row in 0..5 {
                     for j in 0..=row {
-                        let (x, y) = (row as Real * gap * 0.8660254, (j as Real - 0.5 * row as Real) * gap);
+                        let x = row as Real * gap * 0.8660254;
+                        let y = (j as Real - 0.5 * row as Real) * gap;
                         let body = RigidBodyBuilder::dynamic()
                             .translation(xy(foot + x, y))
                             .linear_damping(0.3)
                             .ccd_enabled(true);
-                        b.ball(body, r, m, ball);
+                        b.mark(body, ColliderBuilder::ball(r), m, ball);
                     }
                 }
                 let body = RigidBodyBuilder::dynamic()
@@ -189,13 +171,13 @@ impl Bench {
                     .linvel(Vector::X * 6.0)
                     .linear_damping(0.3)
                     .ccd_enabled(true);
-                b.ball(body, r, m, ball);
+                b.mark(body, ColliderBuilder::ball(r), m, ball);
                 b
             }
             Scene::Cue => {
                 // A heavy cue ball through a grid of resting, damped, awake
                 // balls, clipping one every 2 m.
-                let mut b = Self::new(mode, 0.0, Vector::ZERO);
+                let mut b = Self::new(mode, Law::with_dissipation(0.0), Vector::ZERO);
                 let material = (0.0, 1.0);
                 let (r, spacing) = (0.5, 2.0);
                 let side = per_side(balls);
@@ -206,14 +188,14 @@ impl Bench {
                         .translation(grid_point(i, side, spacing))
                         .linear_damping(3.0)
                         .can_sleep(false);
-                    b.ball(body, r, 1.0, material);
+                    b.mark(body, ColliderBuilder::ball(r), 1.0, material);
                 }
                 let row = grid_point(side / 2 * side, side, spacing)[1];
                 let body = RigidBodyBuilder::dynamic()
                     .translation(xy(-grid_half - 2.0, row + 0.8))
                     .linvel(Vector::X * 5.0)
                     .can_sleep(false);
-                b.ball(body, r, 10.0, material);
+                b.mark(body, ColliderBuilder::ball(r), 10.0, material);
                 b
             }
             Scene::Restitution3 | Scene::Restitution2 => Self::restitution(mode),
@@ -229,7 +211,8 @@ impl Bench {
     /// tests' 500-ball gas, no gravity. With the walls it is the gas scene.
     pub fn effect(effect: Effect, balls: usize, mode: Mode) -> Self {
         let on = |e: Effect| if effect == e { 1.0 } else { 0.0 };
-        let mut b = Self::new(mode, 0.09 * on(Effect::Dissipation), -Vector::Y * 9.81 * on(Effect::Gravity));
+        let (d, g) = (0.09 * on(Effect::Dissipation), 9.81 * on(Effect::Gravity));
+        let mut b = Self::new(mode, Law::with_dissipation(d), -Vector::Y * g);
         let material = (0.5 * on(Effect::Friction), 1.0);
         let r = 0.5;
         let half = if DIM == 2 {
@@ -241,21 +224,19 @@ impl Bench {
             b.closed_box(Vector::splat(half), 1.0, material);
         }
         b.read_events = effect == Effect::Events;
-        let elastic = || k::Material::new(0.0, 0.0).expect("zero is a valid dissipation");
+        let elastic = k::Material::new(0.0, 0.0).expect("zero is a valid dissipation");
+        let rough = elastic.with_impact_friction(0.5, 0.0);
         b.own_material = match effect {
-            Effect::Materials => Some(elastic()),
-            Effect::ImpactFriction => Some(
-                elastic()
-                    .with_impact_friction(0.5, 0.0)
-                    .expect("mu = 0.5 and beta = 0 are valid"),
-            ),
+            Effect::Materials => Some(elastic),
+            Effect::ImpactFriction => Some(rough.expect("mu = 0.5 and beta = 0 are valid")),
             _ => None,
         };
         let side = per_side(balls);
         let spacing = 2.0 * half / side as Real;
         assert!(spacing > 2.0 * r, "the gas grid must not overlap");
         // The spins from their own generator: the velocities stay the base's.
-        let (mut rng, mut spins) = (Xoshiro256PlusPlus::seed_from_u64(42), Xoshiro256PlusPlus::seed_from_u64(7));
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(42);
+        let mut spins = Xoshiro256PlusPlus::seed_from_u64(7);
         for i in 0..balls {
             let spin = on(Effect::Spin) + on(Effect::ImpactFriction);
             let w = 6.0 * spin * spins.random_range(-1.0..1.0) as Real;
@@ -264,19 +245,19 @@ impl Bench {
                 .linvel(random_vector(&mut rng, 3.0))
                 .angvel(about_z(w))
                 .can_sleep(false);
-            b.ball(body, r, 1.0, material);
+            b.mark(body, ColliderBuilder::ball(r), 1.0, material);
         }
         b
     }
 
     /// One step through kimpact (`Mode::Native` too: identical code path),
-    /// after driving the kinematic bodies.
+    /// after swinging the flippers.
     pub fn step(&mut self) {
-        let tau = std::f64::consts::TAU as Real;
-        for d in &self.drives {
-            let w = d.amplitude * tau / d.period * (tau * self.time / d.period).sin();
-            if let Some(rb) = self.world.bodies.get_mut(d.body) {
-                rb.set_angvel(about_z(d.sign * w), true);
+        let (tau, period) = (std::f64::consts::TAU as Real, 0.25);
+        for &(body, sign) in &self.flippers {
+            let w = 0.45 * tau / period * (tau * self.time / period).sin();
+            if let Some(rb) = self.world.bodies.get_mut(body) {
+                rb.set_angvel(about_z(sign * w), true);
             }
         }
         self.kimpact.step_world(&mut self.world, &(), &());
@@ -323,28 +304,27 @@ pub fn run(cli: &Cli) -> String {
 /// per episode warmed up, then measured in alternating blocks, so that the
 /// machine's drift hits both alike.
 fn run_pair(cli: &Cli, build: impl Fn(Mode) -> Bench) -> Pair {
-    let (mut mn, mut ml) = (Measure::default(), Measure::default());
+    let (mut native, mut law) = (Measure::default(), Measure::default());
     let block = cli.block.max(1);
     for _ in 0..cli.repeats.max(1) {
-        let mut worlds = [(build(Mode::Native), &mut mn), (build(cli.mode[0]), &mut ml)];
+        let (n, l) = (build(Mode::Native), build(cli.mode[0]));
+        let mut worlds = [(n, &mut native), (l, &mut law)];
         for _ in 0..cli.warmup {
             worlds.iter_mut().for_each(|(w, _)| w.step());
         }
         let before = worlds.each_ref().map(|(w, _)| w.kimpact.stats().impacts);
-        let mut done = 0;
-        while done < cli.steps {
+        for done in (0..cli.steps).step_by(block) {
             let n = block.min(cli.steps - done);
             for (w, m) in &mut worlds {
                 measured_block(w, n, cli.time_blocks, m);
             }
-            done += n;
         }
         for ((w, m), before) in worlds.iter_mut().zip(before) {
             m.steps += cli.steps;
             m.impacts += w.kimpact.stats().impacts - before;
         }
     }
-    Pair { native: mn, law: ml }
+    Pair { native, law }
 }
 
 /// Memory: the mode alone, then the peak RSS; with `--attribute`, the same
@@ -368,5 +348,9 @@ fn run_solo(cli: &Cli, build: impl Fn() -> Bench) -> Solo {
         (0..cli.steps).for_each(|_| again.step());
         alloc::stop_attribute()
     });
-    Solo { allocs, peak_rss_kib, attributed }
+    Solo {
+        allocs,
+        peak_rss_kib,
+        attributed,
+    }
 }

@@ -5,6 +5,7 @@
 use std::process::ExitCode;
 
 use kimpact::Precision;
+use rayon::ThreadPoolBuilder;
 
 use crate::cli::Cli;
 
@@ -15,18 +16,16 @@ macro_rules! build {
     ($($module:ident: $krate:ident, $about_z:expr, $xyz:expr;)*) => {$(
         mod $module {
             use $krate as k;
+            use k::math::Real;
+            use k::rapier::math::AngVector;
 
             /// An angle or angular velocity `a` about z.
-            fn about_z(a: k::math::Real) -> k::rapier::math::AngVector {
+            fn about_z(a: Real) -> AngVector {
                 ($about_z)(a)
             }
 
             /// An angle or angular velocity of components `[x, y, z]`.
-            fn xyz(
-                x: k::math::Real,
-                y: k::math::Real,
-                z: k::math::Real,
-            ) -> k::rapier::math::AngVector {
+            fn xyz(x: Real, y: Real, z: Real) -> AngVector {
                 ($xyz)(x, y, z)
             }
 
@@ -53,15 +52,11 @@ pub fn child_main(cli: &Cli) -> ExitCode {
     };
     // `--threads`: the steps run inside a pool of that many threads (rapier
     // and kimpact's passes use the pool they run in).
-    let pool = cli.threads.map(|n| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(n.into())
-            .build()
-    });
-    let json = match pool {
+    let pool = |n: u16| ThreadPoolBuilder::new().num_threads(n.into()).build();
+    let json = match cli.threads.map(pool) {
         None => run(),
         Some(Ok(pool)) => {
-            crate::memory::time_by_wall_clock();
+            crate::memory::WALL_CLOCK.store(true, std::sync::atomic::Ordering::Relaxed);
             pool.install(run)
         }
         Some(Err(e)) => {

@@ -50,7 +50,7 @@ macro_rules! rapier_backend {
             use kimpact_reference::Stats;
             use k::math::{Real, Vector};
             use k::rapier::prelude::*;
-            use k::{Kimpact, Law, LawParams, Mode};
+            use k::{Kimpact, Law, Mode};
             use $krate as k;
 
             const D: usize = $dim;
@@ -87,8 +87,7 @@ macro_rules! rapier_backend {
                     let mut world = PhysicsWorld::new();
                     world.gravity = Vector::ZERO;
                     world.integration_parameters.dt = setup.dt as Real;
-                    let dissipation = setup.dissipation as Real;
-                    let law = Law::new(LawParams { dissipation, ..Default::default() })?;
+                    let law = Law::with_dissipation(setup.dissipation as Real)?;
                     let mut kimpact = Kimpact::new(law, mode);
                     // Native rapier gets the law's head-on restitution for
                     // equal masses (q = 8 d̃) between balls and its wall
@@ -105,12 +104,12 @@ macro_rules! rapier_backend {
                         c[axis] = if side == 0 { lo[axis] - t } else { hi[axis] + t };
                         let mut he = half.add_scalar(2.0 * t);
                         he[axis] = t;
-                        let body = world.insert_body(RigidBodyBuilder::fixed().translation(to_rapier(&c)));
+                        let body = RigidBodyBuilder::fixed().translation(to_rapier(&c));
                         let he = k::rapier::parry::shape::Cuboid::new(to_rapier(&he));
                         let collider = ColliderBuilder::new(SharedShape::new(he))
                             .friction(0.0)
                             .restitution(e_wall as Real);
-                        walls.insert(world.insert_collider(collider, Some(body)), (axis, side));
+                        walls.insert(world.insert(body, collider).1, (axis, side));
                     }
                     let mut balls = Vec::new();
                     for b in &setup.balls {

@@ -1,8 +1,5 @@
-//! What every tool of the package writes: whole files, each into a
-//! temporary file in its own folder (`tempfile`), renamed into place
-//! (`NamedTempFile::persist`) only once every one is written (on an error
-//! the temporary files are removed and the old files stay); and the
-//! machine a run was on, for the reports' headers.
+//! Whole-file writes for every tool of the package, and the machine a run
+//! was on, for the reports' headers.
 
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
@@ -17,9 +14,10 @@ pub struct WriteError {
     pub source: std::io::Error,
 }
 
-/// Write every `(path, contents)` whole, all or none (as far as the file
-/// system allows: a rename that fails after others succeeded leaves
-/// those). Missing folders are created.
+/// Write every `(path, contents)` whole, all or none: each into a temporary
+/// file beside it, renamed into place once every one is written (a rename
+/// that fails after others succeeded leaves those). Missing folders are
+/// created.
 ///
 /// # Errors
 /// [`WriteError`] naming the first file that could not be written.

@@ -18,8 +18,8 @@ pub fn momentum<const D: usize>(setup: &Setup<D>, state: &[(V<D>, V<D>)]) -> V<D
 
 /// Errors of a short scene against the reference at the same time: the
 /// largest velocity difference (the incoming speed is 1), the largest
-/// position difference in radii, the kinetic energy kept, and |Δ momentum|
-/// relative to the initial momentum.
+/// position difference in radii, the kinetic energy kept, and the relative
+/// |Δ momentum|.
 #[allow(missing_docs)]
 #[derive(Copy, Clone, Debug)]
 pub struct ShortResult {
@@ -45,27 +45,24 @@ pub fn short_run<const D: usize>(
     let mut reference = RefSim::new(setup)?;
     reference.advance_to(sim.time())?;
     let (s, r, initial) = (sim.state(), reference.state(), setup.initial());
-    // The largest differences of positions and of velocities.
-    let (mut dx, mut dv) = (0.0f64, 0.0f64);
-    for (a, b) in s.iter().zip(&r) {
-        dx = dx.max((a.0 - b.0).norm());
-        dv = dv.max((a.1 - b.1).norm());
-    }
+    let largest = |f: fn(&(V<D>, V<D>)) -> V<D>| {
+        let each = s.iter().zip(&r).map(|(a, b)| (f(a) - f(b)).norm());
+        each.fold(0.0, f64::max)
+    };
     let p0 = momentum(setup, &initial);
     Ok(ShortResult {
-        dv,
-        dx: dx / R,
+        dv: largest(|x| x.1),
+        dx: largest(|x| x.0) / R,
         kept: kinetic(setup, &s) / kinetic(setup, &initial),
         dp: (momentum(setup, &s) - p0).norm() / p0.norm(),
     })
 }
 
-/// A gas over time, at checkpoints from time 0 (`t`): kinetic energy over
-/// the initial one, |P| in units of sqrt(2 M E), impacts so far; speeds over
-/// the rms speed pooled over the second half; ms per rapier step (NaN for
-/// the reference); why the run stopped early; the wall-impulse residual
-/// ([`Sim::impulse_residual`]); balls outside the box at the end; what the
-/// simulator counted that is unusual ([`Sim::diagnostics`]).
+/// A gas at checkpoints from time 0 (`t`): kinetic energy over the
+/// initial one, |P| in units of sqrt(2 M E), impacts so far; speeds over
+/// the rms speed pooled over the second half; then [`Sim::ms_per_step`],
+/// why the run stopped early, [`Sim::impulse_residual`], the balls outside
+/// the box at the end and [`Sim::diagnostics`].
 #[allow(missing_docs)]
 #[derive(Clone, Debug, Default)]
 pub struct GasSeries {

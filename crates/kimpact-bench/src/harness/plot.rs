@@ -24,23 +24,24 @@ pub fn color(method: Method) -> RGBColor {
 }
 
 /// A panel: a title, its axes' labels, and a line (with dots when `dots`)
-/// per simulator; y logarithmic, x logarithmic when `log_x`, else linear
-/// from 0; the legend at `legend`.
+/// through the points of each simulator; y logarithmic, x logarithmic when
+/// `log_x`, else linear from 0; the legend at `legend`.
+#[allow(missing_docs)]
 pub struct Panel {
-    /// The title.
     pub title: String,
-    /// The x axis's label.
     pub x_label: String,
-    /// The y axis's label.
     pub y_label: String,
-    /// Whether x is logarithmic.
     pub log_x: bool,
-    /// Whether each point gets a dot.
     pub dots: bool,
-    /// Where the legend goes.
     pub legend: SeriesLabelPosition,
-    /// The points of each simulator.
     pub series: Vec<(Method, Vec<(f64, f64)>)>,
+}
+
+impl Panel {
+    /// Whether a point can be drawn on the panel's axes.
+    fn drawable(&self, &(x, y): &(f64, f64)) -> bool {
+        x.is_finite() && y.is_finite() && y > 0.0 && (!self.log_x || x > 0.0)
+    }
 }
 
 /// The whole decades that hold the positive `values` (at least one).
@@ -63,10 +64,7 @@ where
     let e = |e: DrawingAreaErrorKind<_>| e.to_string();
     let x_fmt = |x: &f64| match p.log_x {
         true => format!("{x:.0e}"),
-        false => format!("{x:.2}")
-            .trim_end_matches('0')
-            .trim_end_matches('.')
-            .to_owned(),
+        false => decimal(*x, 2),
     };
     chart
         .configure_mesh()
@@ -79,10 +77,7 @@ where
         .map_err(e)?;
     for (method, series) in &p.series {
         let c = color(*method);
-        let ok = |(x, y): &&(f64, f64)| {
-            x.is_finite() && *y > 0.0 && y.is_finite() && (!p.log_x || *x > 0.0)
-        };
-        let pts: Vec<(f64, f64)> = series.iter().filter(ok).copied().collect();
+        let pts: Vec<(f64, f64)> = series.iter().filter(|q| p.drawable(q)).copied().collect();
         let line = chart
             .draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))
             .map_err(e)?;
@@ -94,20 +89,35 @@ where
                 .map_err(e)?;
         }
     }
-    chart
-        .configure_series_labels()
-        .position(p.legend.clone())
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .draw()
-        .map_err(e)
+    legend(chart, p.legend.clone())
+}
+
+/// `x` with at most `decimals` decimals (trailing zeros dropped).
+pub fn decimal(x: f64, decimals: usize) -> String {
+    let s = format!("{x:.decimals$}");
+    match s.contains('.') {
+        true => s.trim_end_matches('0').trim_end_matches('.').to_owned(),
+        false => s,
+    }
+}
+
+/// The legend of `chart`'s labelled series at `position`.
+///
+/// # Errors
+/// plotters', as text.
+pub fn legend<'a, CT: CoordTranslate>(
+    chart: &mut ChartContext<'a, SVGBackend<'a>, CT>,
+    position: SeriesLabelPosition,
+) -> Result<(), String> {
+    let mut labels = chart.configure_series_labels();
+    labels.position(position).border_style(BLACK);
+    labels.background_style(WHITE.mix(0.85));
+    labels.draw().map_err(|e| e.to_string())
 }
 
 /// One panel into `area` (nothing when it has no drawable point).
 fn draw(area: &DrawingArea<SVGBackend<'_>, Shift>, p: &Panel) -> Result<(), String> {
-    let ok =
-        |(x, y): &&(f64, f64)| *y > 0.0 && y.is_finite() && x.is_finite() && (!p.log_x || *x > 0.0);
-    let pts = || p.series.iter().flat_map(|s| &s.1).filter(ok);
+    let pts = || p.series.iter().flat_map(|s| &s.1).filter(|q| p.drawable(q));
     let (Some((y0, y1)), Some((x0, x1))) =
         (decades(pts().map(|q| q.1)), decades(pts().map(|q| q.0)))
     else {
@@ -119,9 +129,8 @@ fn draw(area: &DrawingArea<SVGBackend<'_>, Shift>, p: &Panel) -> Result<(), Stri
         .margin(8)
         .x_label_area_size(36)
         .y_label_area_size(52);
-    let (y, e) = ((y0..y1).log_scale(), |e: DrawingAreaErrorKind<_>| {
-        e.to_string()
-    });
+    let y = (y0..y1).log_scale();
+    let e = |e: DrawingAreaErrorKind<_>| e.to_string();
     if p.log_x {
         let chart = chart.build_cartesian_2d((x0..x1).log_scale(), y);
         draw_series(&mut chart.map_err(e)?, p)

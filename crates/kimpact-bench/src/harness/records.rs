@@ -1,23 +1,17 @@
-//! What the tools hand each other: a row of the bench's `results.csv` and
-//! the accuracy study's `accuracy-summary.json`. The bench and the study
-//! serialize these types; `kimpact-ladder` deserializes the same ones.
+//! What the tools hand each other: the bench's CSV rows and the accuracy
+//! study's summary, serialized and read back with the same types.
 
 use kimpact::{Mode, Precision};
 use serde::{Deserialize, Deserializer, Serialize};
 
-/// One row of the bench's `results.csv`: a mode on one scene (`gas2d`,
-/// `pit3d`…, of dimension `dim`), size (`balls`) and precision, rapier's
-/// `parallel` feature on or off. Times are medians of the process's CPU
-/// time per step in µs, pooled over `rounds` timing runs (native's row:
-/// every mode's) and `samples` samples: the mode's (`median_us`) and
-/// native's in the same processes (`native_median_us`); `ratio` is ×native,
-/// their quotient (NaN when not measured), `ratio_min`, `ratio_max` and
-/// `ratio_median_rounds` those of the single rounds, `delta_us` their
-/// difference (what the mode adds to a step). Per measured step: heap
-/// allocations (all threads), native's, kimpact's (their share whose
-/// stacks lead to kimpact's code times the total; NaN: not attributed),
-/// and the impacts the law resolved. `peak_rss_mib` is the peak resident
-/// memory of a process running the mode alone; `error` why a run failed.
+/// One row of the bench's `results.csv`: a mode on one scene, size and
+/// precision. Times are medians of the process's CPU time per step (µs),
+/// pooled over `rounds` timing runs (native's row: every mode's): the
+/// mode's and native's in the same processes; `ratio` (×native) is their
+/// quotient, `ratio_min`, `ratio_max`, `ratio_median_rounds` the single
+/// rounds', `delta_us` their difference. Per measured step: heap
+/// allocations (all threads), native's, kimpact's (NaN: not attributed)
+/// and the law's impacts; `peak_rss_mib` of the mode running alone.
 #[allow(missing_docs)]
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BenchRow {
@@ -45,14 +39,9 @@ pub struct BenchRow {
 }
 
 /// One row of the bench's `effects.csv` (`--effects`): a law mode on the
-/// effects table's base of one gas scene (`scene`, `balls`, `precision`)
-/// with `effect` alone on (`base`: none). Times as in [`BenchRow`]:
-/// `median_us` and `native_median_us`, their quotient `ratio`, their
-/// difference `delta_us` (what the mode adds to native's step);
-/// `base_delta_us` the same mode's `delta_us` on the base and `effect_us`
-/// their difference (what the effect costs kimpact). Per measured step:
-/// kimpact's own heap allocations (NaN: not attributed) and the impacts
-/// the law resolved; `error` why a run failed.
+/// effects base of one gas scene with `effect` alone on (`base`: none).
+/// Fields as in [`BenchRow`]; `base_delta_us` is the mode's `delta_us` on
+/// the base, `effect_us` = `delta_us` − `base_delta_us`.
 #[allow(missing_docs)]
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct EffectRow {

@@ -14,30 +14,29 @@ pub type V<const D: usize> = kimpact_reference::nalgebra::SVector<f64, D>;
 /// Positions and velocities of the balls, in the order of `Setup::balls`.
 pub type State<const D: usize> = Vec<(V<D>, V<D>)>;
 
-/// A scene: balls in a box, the law's dissipation and rapier's time step.
+/// A scene: the balls, in the order every simulator reports them, in a
+/// box (the reference's; rapier gets fixed cuboid walls on its faces only
+/// when `walls`), the law's dissipation `d̃` and rapier's time step.
+#[allow(missing_docs)]
 #[derive(Clone, Debug)]
 pub struct Setup<const D: usize> {
-    /// The balls, in the order every simulator reports them.
     pub balls: Vec<Ball<D>>,
-    /// The box. The reference always has one; rapier gets fixed cuboid
-    /// walls on its faces only when `walls`.
     pub bounds: BoxBounds<D>,
-    /// Whether rapier gets walls.
     pub walls: bool,
-    /// The law's dissipation `d̃` (balls and walls).
     pub dissipation: f64,
-    /// rapier's time step.
     pub dt: f64,
 }
 
 impl<const D: usize> Setup<D> {
     /// The balls' positions and velocities at the start.
     pub fn initial(&self) -> State<D> {
-        self.balls
-            .iter()
-            .map(|b| (b.position, b.velocity))
-            .collect()
+        state_of(&self.balls)
     }
+}
+
+/// The positions and velocities of `balls`.
+pub(crate) fn state_of<const D: usize>(balls: &[Ball<D>]) -> State<D> {
+    balls.iter().map(|b| (b.position, b.velocity)).collect()
 }
 
 /// rapier's default time step.
@@ -75,7 +74,7 @@ pub fn ball_volume(d: usize, r: f64) -> f64 {
 
 /// How [`lattice`] draws the velocities.
 #[derive(Copy, Clone, Debug)]
-pub enum Velocities {
+enum Velocities {
     /// Components uniform in `[-a, a]` (kT = a²/3): relaxes to Maxwell.
     Uniform(f64),
     /// Maxwell at kT = 1, total momentum removed, energy rescaled to exactly
@@ -84,11 +83,9 @@ pub enum Velocities {
 }
 
 /// `n` balls on a jittered lattice filling the box `[0, size]` (a random
-/// choice of the sites when the lattice has more).
-///
-/// # Errors
-/// [`HarnessError::Crowded`] when `n` balls do not fit apart in the box.
-pub fn lattice<const D: usize>(
+/// choice of the sites when the lattice has more); [`HarnessError::Crowded`]
+/// when they do not fit apart.
+fn lattice<const D: usize>(
     n: usize,
     size: V<D>,
     velocities: Velocities,
@@ -149,14 +146,12 @@ fn set_energy<const D: usize>(balls: &mut [Ball<D>], e: f64) {
     balls.iter_mut().for_each(|b| b.velocity *= scale);
 }
 
-/// The kind of gas of the CI test (`tests/accuracy.rs`): `n` balls at
-/// packing fraction 0.3 in a cube, velocity components uniform in `[-3, 3]`
-/// (here on randomly chosen lattice sites and scaled to kT = 3 exactly, so
-/// that draws differ only in their balls; the CI test fills its lattice row
-/// by row and keeps the drawn energy).
+/// A gas of `n` balls at packing fraction 0.3 in a cube, velocity
+/// components uniform in `[-3, 3]` on randomly chosen lattice sites, scaled
+/// to kT = 3 exactly (so that draws differ only in their balls).
 ///
 /// # Errors
-/// As [`lattice`].
+/// [`HarnessError::Crowded`] when the balls do not fit apart.
 pub fn gas_setup<const D: usize>(
     n: usize,
     dissipation: f64,
@@ -166,8 +161,6 @@ pub fn gas_setup<const D: usize>(
     let side = (n as f64 * ball_volume(D, R) / 0.3).powf(1.0 / D as f64);
     let size = V::<D>::repeat(side);
     let mut balls = lattice(n, size, Velocities::Uniform(3.0), seed)?;
-    // Every draw gets the same energy (kT = 3), so that different draws
-    // are samples of the same gas.
     set_energy(&mut balls, 1.5 * (D * n) as f64);
     Ok(Setup {
         balls,
@@ -187,11 +180,17 @@ pub fn two_ball_setup<const D: usize>(m2: f64, dissipation: f64, offset: f64, dt
     p2[0] = gap + 2.3 * DT;
     p2[1] = offset;
     let centre = V::<D>::repeat(20.0);
+    let balls = vec![
+        Ball::new(R, 1.0, centre, unit_x::<D>()),
+        Ball::new(R, m2, centre + p2, V::<D>::zeros()),
+    ];
+    far_box(balls, dissipation, dt)
+}
+
+/// `balls` about the centre of a far box (40 wide), no walls in rapier.
+fn far_box<const D: usize>(balls: Vec<Ball<D>>, dissipation: f64, dt: f64) -> Setup<D> {
     Setup {
-        balls: vec![
-            Ball::new(R, 1.0, centre, unit_x::<D>()),
-            Ball::new(R, m2, centre + p2, V::<D>::zeros()),
-        ],
+        balls,
         bounds: BoxBounds::new(V::zeros(), V::repeat(40.0)),
         walls: false,
         dissipation,
@@ -206,13 +205,7 @@ pub fn cradle_setup<const D: usize>(dt: f64) -> Setup<D> {
     let mut balls = vec![Ball::new(R, 1.0, centre - x * (2.0 * R + 3.5 * DT), x)];
     let at_rest = |i: usize| Ball::new(R, 1.0, centre + x * (2.0 * R * i as f64), V::zeros());
     balls.extend((0..5).map(at_rest));
-    Setup {
-        balls,
-        bounds: BoxBounds::new(V::zeros(), V::repeat(40.0)),
-        walls: false,
-        dissipation: 0.0,
-        dt,
-    }
+    far_box(balls, 0.0, dt)
 }
 
 /// The box of a Z measurement: `n` balls in a box whose lengths
@@ -220,7 +213,7 @@ pub fn cradle_setup<const D: usize>(dt: f64) -> Setup<D> {
 /// velocities at kT = 1, elastic, rapier's default step.
 ///
 /// # Errors
-/// As [`lattice`].
+/// [`HarnessError::Crowded`] when the balls do not fit apart.
 pub fn z_setup<const D: usize>(n: usize, ell: V<D>, seed: u64) -> Result<Setup<D>, HarnessError> {
     let size = ell.add_scalar(2.0 * R);
     let mut balls = lattice(n, ell, Velocities::Maxwell, seed)?;

@@ -1,9 +1,8 @@
 //! Whose code an allocation's stack leads to: the rule of the bench's
-//! allocation attribution (`kimpact-bench`'s `alloc.rs`), on the source
-//! paths of the stack's frames.
+//! allocation attribution, on the source paths of the stack's frames.
 
-/// kimpact's sources: the core, the adapter's source and the four links
-/// to it by which rustc names its files.
+/// kimpact's sources: the core, the adapter and the four crates by which
+/// rustc names the adapter's files.
 const KIMPACT_SOURCES: [&str; 6] = [
     "crates/kimpact/src/",
     "rapier-adapter/src/",

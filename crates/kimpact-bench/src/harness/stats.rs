@@ -36,13 +36,11 @@ pub fn ks_maxwell(d: usize, x: &mut [f64]) -> f64 {
         }
     };
     let n = x.len() as f64;
-    x.iter()
-        .enumerate()
-        .map(|(i, &u)| {
-            let f = cdf(u);
-            (f - i as f64 / n).abs().max(((i + 1) as f64 / n - f).abs())
-        })
-        .fold(0.0, f64::max)
+    let gap = |(i, &u): (usize, &f64)| {
+        let f = cdf(u);
+        (f - i as f64 / n).abs().max(((i + 1) as f64 / n - f).abs())
+    };
+    x.iter().enumerate().map(gap).fold(0.0, f64::max)
 }
 
 /// The mean of `x` and its standard error.

@@ -8,21 +8,16 @@ use kimpact_harness::{
     ks, ks_maxwell, short_run, two_ball_setup, z_setup,
 };
 
-use crate::format::{e, ms, pct};
+use crate::report::{e, ms, pct};
 use crate::z::{ZResult, z_run};
+
+/// A name in `accuracy.csv`.
+type Name = &'static str;
 
 /// A line of `accuracy.csv`: one value of a series or of the cost sweep:
 /// its section (`gas`, `cooling`, `cost`), build, simulator, time step
 /// divisor, x (time, or the time step), quantity and value.
-pub type CsvRow = (
-    &'static str,
-    &'static str,
-    &'static str,
-    usize,
-    f64,
-    &'static str,
-    f64,
-);
+pub type CsvRow = (Name, Name, Name, usize, f64, Name, f64);
 
 /// The header of `accuracy.csv`.
 pub const CSV_HEADER: [&str; 7] = [
@@ -74,45 +69,25 @@ impl<'a, const D: usize> Build<'a, D> {
         self.out.rows.push((table.to_owned(), row));
     }
 
-    /// A line of the CSV.
-    fn csv(
-        &mut self,
-        section: &'static str,
-        m: Method,
-        div: usize,
-        x: f64,
-        q: &'static str,
-        v: f64,
-    ) {
-        self.out
-            .csv
-            .push((section, self.b.label, m.name(), div, x, q, v));
+    /// A line of the CSV in the section `s`.
+    fn csv(&mut self, s: Name, m: Method, div: usize, x: f64, q: Name, v: f64) {
+        self.out.csv.push((s, self.b.label, m.name(), div, x, q, v));
     }
 
     /// A point of the panel `title` (with the build's label) of the plot.
     fn point(&mut self, title: &str, method: Method, x: f64, y: f64) {
-        self.out
-            .points
-            .push((format!("{title} {}", self.b.label), method, x, y));
+        let title = format!("{title} {}", self.b.label);
+        self.out.points.push((title, method, x, y));
     }
 
     /// A note about `who` in this build.
     fn note(&mut self, section: &str, who: &str, text: impl std::fmt::Display) {
-        self.out
-            .notes
-            .push(format!("{section} {}{who}: {text}", self.b.label));
+        let note = format!("{section} {}{who}: {text}", self.b.label);
+        self.out.notes.push(note);
     }
 
-    /// A summary row for rapier in `method` (the reference has none).
-    fn error(
-        &mut self,
-        m: Method,
-        scene: &str,
-        div: usize,
-        q: &str,
-        error: f64,
-        floor: Option<f64>,
-    ) {
+    /// A summary row for rapier in `m` (the reference has none).
+    fn error(&mut self, m: Method, scene: &str, div: usize, q: &str, v: f64, floor: Option<f64>) {
         let Some(mode) = m.mode() else { return };
         self.out.errors.push(ErrorRow {
             scene: scene.to_owned(),
@@ -121,7 +96,7 @@ impl<'a, const D: usize> Build<'a, D> {
             mode,
             dt_div: div,
             quantity: q.to_owned(),
-            error,
+            error: v,
             noise_floor: floor,
         });
     }
@@ -149,12 +124,9 @@ pub struct ZEntry {
     pub r: ZResult,
 }
 
-/// How large and long every comparison is: the gases' balls, simulated
-/// time and checkpoints; the Z runs' measuring time (reference, rapier),
-/// equilibration (reference, rapier), least distance from the walls of the
-/// density's region, accessible box lengths (2D, 3D and the reference's
-/// larger 3D) and the reference's calibration time in each box; the
-/// cooling gas's time and checkpoints; the cost runs' time.
+/// How large and long every comparison is: the gases; the Z runs' times,
+/// least distance from the walls, box lengths (2D, 3D, the reference's
+/// larger 3D) and calibration times; the cooling gas; the cost runs.
 pub struct Sizes {
     pub gas_n: usize,
     pub gas_t: f64,
@@ -270,20 +242,17 @@ pub fn gas_jobs<const D: usize>(
     j.error(m, "gas", 1, "ks_speeds_vs_reference", ks_e, Some(ks_floor));
     let (rate_e, rate_floor) = (rate_error(&g), rate_error(&other));
     j.error(m, "gas", 1, "impact_rate_error", rate_e, Some(rate_floor));
+    let mut series = vec![(&g, m)];
     if m == Method::NATIVE {
         j.row("gas", cells("reference", &r));
         j.row("gas", cells("reference, other balls", &other));
+        series.push((&r, Method::Reference));
     }
     j.row("gas", cells(m.name(), &g));
     let who = format!(" {}", m.name());
     for text in g.error.iter().chain(&g.diagnostics) {
         j.note("gas", &who, text);
     }
-    let series = if m == Method::NATIVE {
-        vec![(&g, m), (&r, Method::Reference)]
-    } else {
-        vec![(&g, m)]
-    };
     for (s, m) in series {
         for i in 0..s.t.len() {
             j.csv("gas", m, 1, s.t[i], "energy", s.energy[i]);
@@ -303,11 +272,9 @@ pub fn cooling_jobs<const D: usize>(b: Backend<D>, sizes: &Sizes) -> Result<Out,
     let mut j = Build::new(&b);
     let (n, d) = (sizes.gas_n, 0.01);
     let (t, checkpoints) = (sizes.cooling_t, sizes.cooling_checkpoints);
-    // With d̃ > 0 the reference can stall: grazing impacts are clamped to a
-    // restitution of 1e-3, and three balls in contact then collapse into
-    // infinitely many impacts at one instant (inelastic collapse). Take
-    // the first two draws of the balls that it runs through for the whole
-    // time: the first for the comparison, the second as the noise floor.
+    // With d̃ > 0 the reference can stall (inelastic collapse): take the
+    // first two draws it runs through, for the comparison and the noise
+    // floor.
     let mut good: Vec<(u64, GasSeries)> = Vec::new();
     for seed in 3..16 {
         let setup = gas_setup::<D>(n, d, DT, seed)?;
@@ -342,11 +309,9 @@ pub fn cooling_jobs<const D: usize>(b: Backend<D>, sizes: &Sizes) -> Result<Out,
     };
     let row = |label: &str, s: &GasSeries, vs: bool| {
         let k = s.t.len().min(r.t.len());
+        let end = pct(s.energy[k - 1] / r.energy[k - 1] - 1.0);
         let (end, worst) = match vs {
-            true => (
-                pct(s.energy[k - 1] / r.energy[k - 1] - 1.0),
-                format!("{:.1}%", 100.0 * worst(s)),
-            ),
+            true => (end, format!("{:.1}%", 100.0 * worst(s))),
             false => ("–".into(), "–".into()),
         };
         let (label, impacts) = (label.to_owned(), s.impacts[k - 1].to_string());
@@ -355,9 +320,6 @@ pub fn cooling_jobs<const D: usize>(b: Backend<D>, sizes: &Sizes) -> Result<Out,
     };
     j.row("cooling", row("reference", &r, false));
     j.cooling_curve(Method::Reference, &r);
-    if let Some(err) = &r.error {
-        j.note("cooling", " reference", err);
-    }
     let floor = worst(&runs[0].2);
     for (label, m, s) in &runs {
         j.row("cooling", row(label, s, true));
@@ -396,24 +358,25 @@ pub fn z_job<const D: usize>(
     let case = format!("{D}D η = {eta}, ℓ = ({})", lengths.join(", "));
     let precision = method.mode().map_or(Precision::F64, |_| b.precision);
     let who = format!("{case}, {} {precision}", method.name());
-    let notes = z
-        .error
-        .iter()
-        .map(|e| e.to_string())
-        .chain(z.diagnostics.clone());
-    out.notes
-        .extend(notes.map(|text| format!("Z {who}: {text}")));
-    let (d, r) = (D, z);
+    let errors = z.error.iter().map(ToString::to_string);
+    let notes = errors.chain(z.diagnostics.clone());
+    out.notes.extend(notes.map(|t| format!("Z {who}: {t}")));
     out.z.push(ZEntry {
         case,
-        d,
+        d: D,
         eta,
         method,
         precision,
         t_run,
-        r,
+        r: z,
     });
     Ok(out)
+}
+
+/// The reference's run of `x`'s case.
+pub fn reference_of<'a>(z: &'a [ZEntry], x: &ZEntry) -> Option<&'a ZEntry> {
+    z.iter()
+        .find(|y| y.case == x.case && y.method == Method::Reference)
 }
 
 /// The single-wall Z of a rapier run relative to the reference's in the
@@ -428,11 +391,9 @@ pub fn z_vs_reference(x: &ZEntry, reference: &ZEntry) -> (f64, f64) {
 /// The summary rows of the Z runs: |single-wall Z vs the reference's − 1|
 /// per case and rapier run, its standard error as the noise floor.
 pub fn z_summary(z: &[ZEntry]) -> Vec<ErrorRow> {
-    let is_reference = |x: &ZEntry, y: &&ZEntry| y.case == x.case && y.method == Method::Reference;
-    let reference = |x: &ZEntry| z.iter().find(|y| is_reference(x, y));
     z.iter()
         .filter_map(|x| {
-            let (dev, err) = z_vs_reference(x, reference(x)?);
+            let (dev, err) = z_vs_reference(x, reference_of(z, x)?);
             Some(ErrorRow {
                 scene: format!("compressibility_{}d_eta{}", x.d, x.eta),
                 dimension: x.d,

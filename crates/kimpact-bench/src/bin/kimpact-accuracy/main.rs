@@ -7,17 +7,10 @@
 //! cargo run --release -p kimpact-bench --bin kimpact-accuracy -- --quick   # a smoke run on small scenes
 //! ```
 //!
-//! It writes `docs/accuracy.md` (tables, the method, the command and the
-//! machine; the hand-written Findings of the previous file are kept),
-//! `docs/accuracy.svg` (the cost of accuracy and the cooling curves),
-//! `docs/accuracy.csv` (every number of the plots and the time series, long
-//! format: `section,engine,method,dt_div,x,quantity,value`) and
-//! `docs/accuracy-summary.json` (the headline errors per scene, build and
-//! mode, an [`kimpact_harness::AccuracySummary`]). The simulators, scenes and
-//! measurements are the `kimpact_harness` library of this package.
+//! It writes `accuracy.md` (its hand-written Findings kept), `.svg`, `.csv`
+//! (every number of the plots and series) and `accuracy-summary.json`.
 
 mod experiments;
-mod format;
 mod plot;
 mod report;
 mod z;
@@ -29,8 +22,9 @@ use std::time::Instant;
 
 use clap::Parser;
 use kimpact_harness::{
-    AccuracySummary, B2_F32, B2_F64, B3_F32, B3_F64, HarnessError, Method, WriteError, write_files,
+    AccuracySummary, B2_F32, B2_F64, B3_F32, B3_F64, HarnessError, Method, write_files,
 };
+use rayon::ThreadPoolBuilder;
 use rayon::prelude::*;
 
 use experiments::{Out, Sizes, cooling_jobs, cost_jobs, gas_jobs, short_jobs, z_job, z_summary};
@@ -52,18 +46,6 @@ struct Args {
     /// Where to write accuracy.md, .svg, .csv and accuracy-summary.json.
     #[arg(long, default_value = "docs")]
     out: PathBuf,
-}
-
-/// What can stop a run: a simulator, the worker threads, the plot or a
-/// file.
-#[derive(Debug, thiserror::Error)]
-enum RunError {
-    #[error(transparent)]
-    Harness(#[from] HarnessError),
-    #[error("{0}")]
-    Output(String),
-    #[error(transparent)]
-    Write(#[from] WriteError),
 }
 
 fn main() -> ExitCode {
@@ -106,26 +88,23 @@ fn jobs(sizes: &Sizes) -> Result<Vec<Job<'_>>, HarnessError> {
         let n = z::calibrate(&B2_F64, eta, ell2, t2, sizes.w_min)?;
         cases2.push((eta, n, ell2));
     }
-    let (case3, r) = ((0.3, n3, ell3), Method::Reference);
-    jobs.push(Box::new(move || {
-        z_job(B3_F64, (0.3, n3_large, ell3_large), r, sizes)
-    }));
+    let (case3, case3_large) = ((0.3, n3, ell3), (0.3, n3_large, ell3_large));
+    let r = Method::Reference;
+    jobs.push(Box::new(move || z_job(B3_F64, case3_large, r, sizes)));
     jobs.push(Box::new(move || z_job(B3_F64, case3, r, sizes)));
     for &case in &cases2 {
         jobs.push(Box::new(move || z_job(B2_F64, case, r, sizes)));
     }
-    for (m, b) in Method::RAPIER
-        .into_iter()
-        .flat_map(|m| [(m, B3_F32), (m, B3_F64)])
-    {
-        jobs.push(Box::new(move || z_job(b, case3, m, sizes)));
+    for m in Method::RAPIER {
+        for b in [B3_F32, B3_F64] {
+            jobs.push(Box::new(move || z_job(b, case3, m, sizes)));
+        }
     }
     for case in cases2 {
-        for (m, b) in Method::RAPIER
-            .into_iter()
-            .flat_map(|m| [(m, B2_F32), (m, B2_F64)])
-        {
-            jobs.push(Box::new(move || z_job(b, case, m, sizes)));
+        for m in Method::RAPIER {
+            for b in [B2_F32, B2_F64] {
+                jobs.push(Box::new(move || z_job(b, case, m, sizes)));
+            }
         }
     }
     // The gases, the cooling gases and the short scenes in every build.
@@ -137,7 +116,7 @@ fn jobs(sizes: &Sizes) -> Result<Vec<Job<'_>>, HarnessError> {
     Ok(jobs)
 }
 
-fn run(args: &Args) -> Result<(), RunError> {
+fn run(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
     let sizes = &Sizes::new(args.quick);
     let started = Instant::now();
     let progress = |what: &str| eprintln!("[{:>6.1}s] {what}", started.elapsed().as_secs_f64());
@@ -146,18 +125,14 @@ fn run(args: &Args) -> Result<(), RunError> {
     // timings share the cores).
     let jobs = jobs(sizes)?;
     let (total, done) = (jobs.len(), AtomicUsize::new(0));
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads.max(1))
-        .build();
-    let pool =
-        pool.map_err(|e| RunError::Output(format!("cannot start the worker threads: {e}")))?;
+    let threads = args.threads.max(1);
+    let pool = ThreadPoolBuilder::new().num_threads(threads).build();
+    let pool = pool.map_err(|e| format!("cannot start the worker threads: {e}"))?;
     let outs: Result<Vec<Out>, HarnessError> = pool.install(|| {
         let run = |job: Job<'_>| {
             let out = job();
-            progress(&format!(
-                "{}/{total} jobs",
-                done.fetch_add(1, Ordering::SeqCst) + 1
-            ));
+            let n = done.fetch_add(1, Ordering::SeqCst) + 1;
+            progress(&format!("{n}/{total} jobs"));
             out
         };
         // One job per task, taken in order: the longest start first.
@@ -183,7 +158,7 @@ fn run(args: &Args) -> Result<(), RunError> {
         .for_each(|row| csv.serialize(row).expect("a CSV row serializes"));
     let csv = csv.into_inner().expect("a Vec takes every byte");
     let svg = kimpact_harness::svg(&plot::panels(&all.points, sizes.gas_n), 3, (460, 320));
-    let svg = svg.map_err(|e| RunError::Output(format!("plot: {e}")))?;
+    let svg = svg.map_err(|e| format!("plot: {e}"))?;
     let summary = AccuracySummary {
         command: report::command(args.quick),
         quick: args.quick,

@@ -5,16 +5,14 @@
 use std::collections::BTreeMap;
 
 use kimpact_harness::{Method, Panel};
-use plotters::chart::SeriesLabelPosition;
+use plotters::chart::SeriesLabelPosition::{LowerLeft, UpperRight};
 
 /// A series' points.
 type Points = Vec<(f64, f64)>;
 
-/// The panels of the plot points `(panel title, simulator, x, y)`: the cost
-/// panels of each build in a row (2D f32, 2D f64, 3D f32, 3D f64; the
-/// gas's energy error, one impact, the cradle), then the cooling curves;
-/// in each the simulators in their order. The cost runs' gas has
-/// `gas_balls` balls.
+/// The panels of the points `(panel title, simulator, x, y)`: each build's
+/// cost panels in a row, then the cooling curves (the cost runs' gas has
+/// `gas_balls` balls).
 pub fn panels(points: &[(String, Method, f64, f64)], gas_balls: usize) -> Vec<Panel> {
     let mut by_title: BTreeMap<&str, BTreeMap<Method, Points>> = BTreeMap::new();
     for (title, method, x, y) in points {
@@ -24,14 +22,10 @@ pub fn panels(points: &[(String, Method, f64, f64)], gas_balls: usize) -> Vec<Pa
     let panel = |(title, series): (&str, BTreeMap<_, _>)| {
         let cooling = title.starts_with("cooling");
         let (x_label, y_label, legend) = match cooling {
-            true => (
-                "time (s)".to_owned(),
-                "kinetic energy / initial",
-                SeriesLabelPosition::LowerLeft,
-            ),
+            true => ("time (s)".to_owned(), "kinetic energy / initial", LowerLeft),
             false => {
                 let x = format!("CPU seconds per simulated second ({gas_balls}-ball gas)");
-                (x, "error", SeriesLabelPosition::UpperRight)
+                (x, "error", UpperRight)
             }
         };
         Panel {
@@ -47,11 +41,8 @@ pub fn panels(points: &[(String, Method, f64, f64)], gas_balls: usize) -> Vec<Pa
     let mut list: Vec<Panel> = by_title.into_iter().map(panel).collect();
     // Every title ends with its build's label (`2D f32`…), which sorts as
     // the builds' rows.
-    let rank = |t: &str| {
-        ["gas energy", "one impact", "cradle", "cooling"]
-            .iter()
-            .position(|k| t.starts_with(k))
-    };
+    let kinds = ["gas energy", "one impact", "cradle", "cooling"];
+    let rank = |t: &str| kinds.iter().position(|k| t.starts_with(k));
     list.sort_by_key(|p| {
         let (rank, build) = (rank(&p.title), p.title[p.title.len() - 6..].to_owned());
         (rank == Some(3), build, rank)

@@ -1,12 +1,35 @@
 //! `accuracy.md`: the template `accuracy.md.in` (the method's prose and
 //! the tables' headers) filled with the tables, the command and the
-//! machine, with the hand-written Findings kept from the previous file.
+//! machine, with the hand-written Findings kept from the previous file;
+//! and how numbers are written in it.
 
 use kimpact_harness::Method;
 
-use crate::experiments::{Sizes, ZEntry, z_vs_reference};
-use crate::format::{e, ms, pct};
+use crate::experiments::{Sizes, ZEntry, reference_of, z_vs_reference};
 use crate::z::eos;
+
+/// A number in one-digit scientific notation (`0` for zero).
+pub fn e(x: f64) -> String {
+    match x {
+        _ if x == 0.0 => "0".to_owned(),
+        _ if !x.is_finite() => format!("{x}"),
+        _ => format!("{x:.1e}"),
+    }
+}
+
+/// A relative deviation as a signed percentage.
+pub fn pct(x: f64) -> String {
+    format!("{:+.2}%", 100.0 * x)
+}
+
+/// Milliseconds with `digits` decimals, `–` for NaN (the reference's).
+pub fn ms(x: f64, digits: usize) -> String {
+    if x.is_nan() {
+        "–".into()
+    } else {
+        format!("{x:.digits$}")
+    }
+}
 
 /// The markers of the hand-written findings in `accuracy.md`.
 const FINDINGS_BEGIN: &str = "<!-- findings: hand-written, kept by the generator -->";
@@ -44,14 +67,9 @@ pub fn z_tables(z: &[ZEntry]) -> (Vec<Vec<String>>, Vec<Vec<String>>) {
     let mut checks = Vec::new();
     for x in sorted {
         let (case, eta, d, method, t_run, r) = (&x.case, x.eta, x.d, x.method, x.t_run, &x.r);
-        let is_reference = |y: &&ZEntry| &y.case == case && y.method == Method::Reference;
-        let reference = z.iter().find(is_reference);
+        let reference = reference_of(z, x);
         let fit = eos(d, r.eta_bulk);
-        let name = if d == 2 {
-            "Henderson"
-        } else {
-            "Carnahan–Starling"
-        };
+        let name = ["Henderson", "Carnahan–Starling"][d - 2];
         let vs_ref = match reference {
             Some(q) if method != Method::Reference => {
                 let (dev, err) = z_vs_reference(x, q);
@@ -89,25 +107,17 @@ pub fn z_tables(z: &[ZEntry]) -> (Vec<Vec<String>>, Vec<Vec<String>>) {
     (main, checks)
 }
 
-/// What `accuracy.md` is filled with: the jobs' table rows, each with the
-/// template's name for its table (`impact`, `cradle`, `gas`, `cooling`,
-/// `cost`), the Z runs (the tables `z` and `z_checks`), and the run.
+/// What `accuracy.md` is filled with: the jobs' rows by the template's
+/// table (`impact`, `cradle`…), the Z runs, the findings to keep, and the
+/// run's notes, `--quick`, worker threads, wall time (s) and sizes.
 pub struct Document<'a> {
-    /// The tables' rows.
     pub rows: &'a [(String, Vec<String>)],
-    /// The Z runs.
     pub z: &'a [ZEntry],
-    /// The hand-written findings to keep.
     pub findings: &'a str,
-    /// Notes from the run.
     pub notes: &'a [String],
-    /// A `--quick` run.
     pub quick: bool,
-    /// Worker threads and the run's wall time, s.
     pub threads: usize,
-    /// See `threads`.
     pub elapsed: f64,
-    /// The run's sizes.
     pub sizes: &'a Sizes,
 }
 
@@ -115,26 +125,18 @@ pub struct Document<'a> {
 /// and the tables' headers) filled in.
 pub fn document(d: &Document<'_>) -> String {
     let (z, z_checks) = z_tables(d.z);
-    let z = z
-        .iter()
-        .map(|r| ("z", r))
-        .chain(z_checks.iter().map(|r| ("z_checks", r)));
-    let rows: Vec<(&str, &Vec<String>)> = d
-        .rows
-        .iter()
-        .map(|(k, r)| (k.as_str(), r))
-        .chain(z)
-        .collect();
+    let mut rows: Vec<(&str, &Vec<String>)> = d.rows.iter().map(|(k, r)| (k.as_str(), r)).collect();
+    rows.extend(z.iter().map(|r| ("z", r)));
+    rows.extend(z_checks.iter().map(|r| ("z_checks", r)));
     let table = |key| {
         let mine = rows.iter().filter(|r| r.0 == key);
         mine.map(|r| format!("| {} |\n", r.1.join(" | ")))
             .collect::<String>()
     };
-    let quick = match d.quick {
-        true => {
-            "**A smoke run (`--quick`)**: smaller scenes and much shorter runs than the text below describes; its figures mean nothing.\n\n"
-        }
-        false => "",
+    let quick = if d.quick {
+        "**A smoke run (`--quick`)**: smaller scenes and much shorter runs than the text below describes; its figures mean nothing.\n\n"
+    } else {
+        ""
     };
     let notes = match d.notes.is_empty() {
         true => String::new(),

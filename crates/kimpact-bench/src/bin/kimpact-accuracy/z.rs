@@ -2,7 +2,8 @@
 //! the wall impulses and the density away from the walls.
 
 use kimpact_harness::{
-    Backend, DT, HarnessError, Method, R, Setup, V, ball_volume, kinetic, mean_and_error, z_setup,
+    Backend, DT, HarnessError, Method, R, Setup, Sim, V, ball_volume, kinetic, mean_and_error,
+    z_setup,
 };
 
 /// The equation of state of the dimension: Henderson's for hard disks
@@ -15,10 +16,9 @@ pub fn eos(d: usize, eta: f64) -> f64 {
 }
 
 /// The distances from the walls beyond which the density is counted: the
-/// one used (first), one σ closer and one σ farther, to show how much the
-/// result depends on it. A fifth of the shortest accessible length, at
-/// least `w_min` (3.5 σ in the full run: the density oscillations near a
-/// wall decay over a few σ).
+/// one used (a fifth of the shortest accessible length, at least `w_min`:
+/// the density oscillates over a few σ near a wall), one σ closer and one
+/// σ farther.
 fn ws<const D: usize>(ell: &V<D>, w_min: f64) -> [f64; 3] {
     let w = (0.2 * ell.min()).max(w_min);
     [w, w - 1.0, w + 1.0]
@@ -53,14 +53,12 @@ pub fn calibrate<const D: usize>(
 }
 
 /// What a Z run measured: its balls; the packing fraction away from the
-/// walls; Z with the walls' excess near their ends eliminated, and its
+/// walls; Z with the walls' excess near their ends eliminated, ± its
 /// standard error over the blocks; the naive Z (total wall force over the
-/// whole surface, nominal density N/V); the single-wall Z (force on the
-/// walls of axis 0 over their accessible area, bulk density) and its
-/// standard error; (w, bulk η, Z) for each distance from the walls; the
-/// relative change of kT; the impacts; ms per rapier step (NaN for the
-/// reference); the wall-impulse residual; why the run stopped early and
-/// what the simulator counted that is unusual.
+/// whole surface, density N/V); the single-wall Z (the walls of axis 0,
+/// bulk density) ± its error; (w, bulk η, Z) for each of [`ws`]; the
+/// relative change of kT; the impacts; then as [`Sim`]'s; why the run
+/// stopped early.
 #[derive(Clone)]
 pub struct ZResult {
     pub n: usize,
@@ -77,6 +75,28 @@ pub struct ZResult {
     pub residual: f64,
     pub error: Option<HarnessError>,
     pub diagnostics: Option<String>,
+}
+
+impl ZResult {
+    /// A run of `n` balls that measured nothing (yet).
+    fn new(n: usize) -> Self {
+        Self {
+            n,
+            eta_bulk: f64::NAN,
+            z: f64::NAN,
+            z_err: f64::NAN,
+            z_naive: f64::NAN,
+            z_single: f64::NAN,
+            z_single_err: f64::NAN,
+            by_w: Vec::new(),
+            kt_drift: f64::NAN,
+            impacts: 0,
+            ms_per_step: f64::NAN,
+            residual: 0.0,
+            error: None,
+            diagnostics: None,
+        }
+    }
 }
 
 /// Pressure from the mean forces on the walls of each axis, `f[k]`, with
@@ -96,10 +116,43 @@ fn pressure<const D: usize>(f: &[f64; D], ell: &V<D>) -> f64 {
 /// Time units between two samples of the density.
 const SAMPLE: f64 = 0.5;
 
+/// `t` rounded to whole base steps.
+fn steps_of(t: f64) -> f64 {
+    (t / DT).round() * DT
+}
+
+/// kT of `state`.
+fn kt<const D: usize>(setup: &Setup<D>, state: &[(V<D>, V<D>)]) -> f64 {
+    2.0 * kinetic(setup, state) / (D * setup.balls.len()) as f64
+}
+
+/// One block of `samples` samples, one every [`SAMPLE`] time units: the
+/// mean densities in the regions at least [`ws`] from every wall, and the
+/// mean kT.
+fn block<const D: usize>(
+    sim: &mut dyn Sim<D>,
+    setup: &Setup<D>,
+    (ell, w_min): (&V<D>, f64),
+    samples: f64,
+) -> Result<([f64; NW], f64), HarnessError> {
+    let size = setup.bounds.size();
+    let (mut rho, mut temp) = ([0.0; NW], 0.0);
+    for _ in 0..samples as usize {
+        sim.advance_to(steps_of(sim.time() + SAMPLE))?;
+        let state = sim.state();
+        for (i, &w) in ws(ell, w_min).iter().enumerate() {
+            let within = |p: &V<D>| (0..D).all(|k| p[k] >= w && p[k] <= size[k] - w);
+            let inside = state.iter().filter(|(p, _)| within(p)).count();
+            rho[i] += inside as f64 / size.add_scalar(-2.0 * w).product();
+        }
+        temp += kt(setup, &state);
+    }
+    Ok((rho.map(|r| r / samples), temp / samples))
+}
+
 /// Z from a run: equilibrate for `t_eq`, then measure over `t_run` in
-/// `blocks` blocks, counting the centres in the regions at least `ws(&ell)[i]`
-/// from every wall every [`SAMPLE`] time units. A run that stops early
-/// returns what it has, with `error` set.
+/// `blocks` [`block`]s. A run that stops early returns what it has, with
+/// `error` set.
 ///
 /// # Errors
 /// A scene the simulator refuses.
@@ -114,57 +167,27 @@ pub fn z_run<const D: usize>(
     let n = setup.balls.len();
     let mut sim = b.sim(setup, method)?;
     let size = setup.bounds.size();
-    let region = |w: f64| size.add_scalar(-2.0 * w).product();
-    let mut out = ZResult {
-        n,
-        eta_bulk: f64::NAN,
-        z: f64::NAN,
-        z_err: f64::NAN,
-        z_naive: f64::NAN,
-        z_single: f64::NAN,
-        z_single_err: f64::NAN,
-        by_w: Vec::new(),
-        kt_drift: f64::NAN,
-        impacts: 0,
-        ms_per_step: f64::NAN,
-        residual: 0.0,
-        error: None,
-        diagnostics: None,
-    };
-    let steps_of = |t: f64| (t / DT).round() * DT;
+    let mut out = ZResult::new(n);
     if let Err(e) = sim.advance_to(steps_of(t_eq)) {
         out.error = Some(e);
         return Ok(out);
     }
-    let kt = |state: &[(V<D>, V<D>)]| 2.0 * kinetic(setup, state) / (D * n) as f64;
-    let kt0 = kt(&sim.state());
+    let kt0 = kt(setup, &sim.state());
     let mut last = sim.totals();
     let mut t_last = sim.time();
-    let samples_per_block = ((t_run / blocks as f64) / SAMPLE).round().max(1.0) as usize;
+    let samples = ((t_run / blocks as f64) / SAMPLE).round().max(1.0);
     let (mut z_blocks, mut single_blocks) = (Vec::new(), Vec::new());
     let (mut sum_f, mut sum_t, mut sum_kt) = ([0.0; D], 0.0, 0.0);
     let mut sum_rho = [0.0; NW];
     let mut impulse_total = 0.0;
     for _ in 0..blocks {
-        let (mut rho, mut temp) = ([0.0; NW], 0.0);
-        for _ in 0..samples_per_block {
-            let target = steps_of(sim.time() + SAMPLE);
-            if let Err(e) = sim.advance_to(target) {
+        let (rho, temp) = match block(&mut *sim, setup, (&ell, w_min), samples) {
+            Ok(measured) => measured,
+            Err(e) => {
                 out.error = Some(e);
                 return Ok(out);
             }
-            let state = sim.state();
-            for (i, &w) in ws(&ell, w_min).iter().enumerate() {
-                let within = |p: &V<D>| (0..D).all(|k| p[k] >= w && p[k] <= size[k] - w);
-                let inside = state.iter().filter(|(p, _)| within(p)).count();
-                rho[i] += inside as f64 / region(w);
-            }
-            temp += kt(&state);
-        }
-        for r in &mut rho {
-            *r /= samples_per_block as f64;
-        }
-        temp /= samples_per_block as f64;
+        };
         let now = sim.totals();
         let dt_block = sim.time() - t_last;
         let mut f = [0.0; D];
@@ -179,9 +202,7 @@ pub fn z_run<const D: usize>(
         z_blocks.push(pressure(&f, &ell) / (rho[0] * temp));
         single_blocks.push(f[0] / (ell.product() / ell[0]) / (rho[0] * temp));
         sum_t += dt_block;
-        for i in 0..NW {
-            sum_rho[i] += rho[i];
-        }
+        sum_rho.iter_mut().zip(rho).for_each(|(s, r)| *s += r);
         sum_kt += temp;
         last = now;
         t_last = sim.time();
@@ -193,10 +214,8 @@ pub fn z_run<const D: usize>(
     out.z = p / (rho[0] * temp);
     out.z_err = mean_and_error(&z_blocks).1;
     out.eta_bulk = rho[0] * ball_volume(D, R);
-    let by_w = ws(&ell, w_min).into_iter().zip(&rho);
-    out.by_w = by_w
-        .map(|(w, &r)| (w, r * ball_volume(D, R), p / (r * temp)))
-        .collect();
+    let at = |(w, &r): (f64, &f64)| (w, r * ball_volume(D, R), p / (r * temp));
+    out.by_w = ws(&ell, w_min).into_iter().zip(&rho).map(at).collect();
     let area: f64 = (0..D).map(|k| 2.0 * size.product() / size[k]).sum();
     let p_naive = impulse_total / sum_t / area;
     out.z_naive = p_naive / (n as f64 / size.product() * temp);

@@ -1,26 +1,17 @@
-//! The join of the bench's costs with the accuracy study's errors. Every
+//! The join of the bench's costs with the accuracy study's errors; every
 //! rule of it lives here:
 //!
-//! - **Scenes** ([`SCENES`]): the bench's `gas2d` is measured against the
-//!   accuracy study's `gas` in 2D, `gas3d` against `gas` in 3D: elastic
-//!   gases of balls in a closed box, the same kind of scene but not the same
-//!   balls (the bench's has [`BALLS`], the study's its own).
-//! - **Build**: f32 on both sides ([`PRECISION`]); the bench's rows of
-//!   [`BALLS`] balls without rapier's `parallel` feature; the study's errors
-//!   at rapier's own time step (`dt_div` 1).
-//! - **Quantities** ([`QUANTITIES`]): `impact_rate_error` (with a noise
-//!   floor) and `energy_error` (without); one point per (scene, quantity,
-//!   mode).
-//! - **Modes**: every mode either side has for a joined scene must be on
-//!   both sides, in every quantity; the same key twice on one side is an
-//!   error.
-//! - **Values**: a ×native, error or noise floor that is not a number (NaN,
-//!   infinite; `null` in the JSON) leaves its point out, with a note; a
-//!   ×native at or below 0, a negative error or noise floor is an error.
-//! - **On a log axis** ([`Level`]): an error above its noise floor is drawn
-//!   at itself; one at or below a positive noise floor at the floor,
-//!   hollow; an error of 0 without a positive floor at the axis's bottom,
-//!   hollow.
+//! - **Scenes** ([`SCENES`]): the bench's `gas2d` and `gas3d` against the
+//!   study's [`GAS`] in 2D and 3D (the same kind of scene, other balls).
+//! - **Build**: [`PRECISION`] on both sides; the bench's rows of [`BALLS`]
+//!   balls without rapier's `parallel`; the study's errors at `dt_div` 1.
+//! - **Quantities** ([`QUANTITIES`]): one point per (scene, quantity, mode).
+//! - **Modes**: a mode on one side of a joined scene must be on the other,
+//!   in every quantity; the same key twice on one side is an error.
+//! - **Values**: one that is not a number (NaN, infinite; `null` in the
+//!   JSON) leaves its point out, with a note; ×native ≤ 0, a negative error
+//!   or noise floor is an error.
+//! - **On a log axis**: see [`Level`].
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -85,7 +76,7 @@ impl Point {
 
 /// What the join gives: the points, by scene, quantity and mode, and those
 /// left out for a value that is not a number ("scene, quantity, mode: why").
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Join {
     pub points: Vec<Point>,
     pub skipped: Vec<String>,
@@ -99,8 +90,7 @@ pub struct Files<'a> {
 }
 
 /// Why the ladder was not drawn (nothing is written then): the file at
-/// fault (an input that cannot be read or breaks a rule of the join, an
-/// output that cannot be drawn or written) and what is wrong, and where.
+/// fault, input or output, and what is wrong, and where.
 #[derive(Debug, thiserror::Error)]
 #[error("{}: {message}", path.display())]
 pub struct LadderError {
@@ -133,6 +123,47 @@ fn by_mode<'a, T>(
     Ok(out)
 }
 
+/// The point of one mode's cost (its line, its row) and error (its index,
+/// its entry); `Ok(Err(why))` when a value is not a number.
+fn point(
+    (scene, quantity): (&'static SceneRule, &'static str),
+    (line, cost): &(String, &BenchRow),
+    (index, e): &(String, &ErrorRow),
+    files: Files<'_>,
+) -> Result<Result<Point, String>, LadderError> {
+    let (ratio, error, noise_floor, mode) = (cost.ratio, e.error, e.noise_floor, e.mode);
+    let at = |field: &str| format!("{}, {index}.{field}", files.accuracy.display());
+    if !ratio.is_finite() {
+        let said = cost.error.as_ref();
+        let said = said.map_or(String::new(), |e| format!("; the bench's error: {e}"));
+        let bench = files.bench.display();
+        return Ok(Err(format!("×native is {ratio} in {bench}, {line}{said}")));
+    }
+    if !error.is_finite() {
+        return Ok(Err(format!("the error is {error} in {}", at("error"))));
+    }
+    if let Some(f) = noise_floor.filter(|f| !f.is_finite()) {
+        let at = at("noise_floor");
+        return Ok(Err(format!("the noise floor is {f} in {at}")));
+    }
+    if ratio <= 0.0 {
+        let message = format!("{line}: ×native is {ratio}, not above 0");
+        return Err(LadderError::new(files.bench, message));
+    }
+    if error < 0.0 || noise_floor.is_some_and(|f| f < 0.0) {
+        let message = format!("{index}: a negative error or noise floor");
+        return Err(LadderError::new(files.accuracy, message));
+    }
+    Ok(Ok(Point {
+        scene,
+        quantity,
+        mode,
+        ratio,
+        error,
+        noise_floor,
+    }))
+}
+
 /// Join the bench's rows (with their lines) with the summary's errors by
 /// the rules above.
 ///
@@ -144,8 +175,8 @@ pub fn join(
     summary: &[ErrorRow],
     files: Files<'_>,
 ) -> Result<Join, LadderError> {
-    let (points, skipped) = (vec![], vec![]);
-    let mut out = Join { points, skipped };
+    let mut out = Join::default();
+    let (accuracy, bench_csv) = (files.accuracy.display(), files.bench.display());
     for scene in &SCENES {
         let (name, dim, scene_label) = *scene;
         let bench_key = format!("{name} ({PRECISION}, {BALLS} balls, parallel false)");
@@ -164,65 +195,24 @@ pub fn join(
             let entries = entries.map(|(i, e)| (format!("errors[{i}]"), e, e.mode));
             errors.push((label, key, by_mode(entries, quantity, files.accuracy)?));
         }
-        let modes: BTreeSet<Mode> = costs
-            .keys()
-            .chain(errors.iter().flat_map(|e| e.2.keys()))
-            .copied()
-            .collect();
-        for mode in modes {
-            if !costs.contains_key(&mode) {
-                let message = format!(
-                    "no {mode} for {bench_key}, which {} has",
-                    files.accuracy.display()
-                );
+        let in_errors = errors.iter().flat_map(|e| e.2.keys());
+        for mode in BTreeSet::from_iter(costs.keys().chain(in_errors)) {
+            if !costs.contains_key(mode) {
+                let message = format!("no {mode} for {bench_key}, which {accuracy} has");
                 return Err(LadderError::new(files.bench, message));
             }
-            if let Some((_, key, _)) = errors.iter().find(|e| !e.2.contains_key(&mode)) {
-                let message = format!("no {mode} for {key}, which {} has", files.bench.display());
+            if let Some((_, key, _)) = errors.iter().find(|e| !e.2.contains_key(mode)) {
+                let message = format!("no {mode} for {key}, which {bench_csv} has");
                 return Err(LadderError::new(files.accuracy, message));
             }
         }
         for (label, _, entries) in &errors {
-            for (mode, (index, e)) in entries {
-                let (line, cost) = &costs[mode];
+            for (mode, entry) in entries {
                 let what = format!("{scene_label}, {label}, {mode}");
-                let at = |field: &str| format!("{}, {index}.{field}", files.accuracy.display());
-                let nan = if !cost.ratio.is_finite() {
-                    let said = cost.error.as_ref();
-                    let said = said.map(|e| format!("; the bench's error: {e}"));
-                    let (bench, said) = (files.bench.display(), said.unwrap_or_default());
-                    Some(format!(
-                        "×native is {} in {bench}, {line}{said}",
-                        cost.ratio
-                    ))
-                } else if !e.error.is_finite() {
-                    Some(format!("the error is {} in {}", e.error, at("error")))
-                } else {
-                    let floor = e.noise_floor.filter(|f| !f.is_finite());
-                    floor.map(|f| format!("the noise floor is {f} in {}", at("noise_floor")))
-                };
-                if let Some(reason) = nan {
-                    out.skipped.push(format!("{what}: {reason}"));
-                    continue;
+                match point((scene, label), &costs[mode], entry, files)? {
+                    Ok(p) => out.points.push(p),
+                    Err(why) => out.skipped.push(format!("{what}: {why}")),
                 }
-                if cost.ratio <= 0.0 {
-                    let message = format!("{line}: ×native is {}, not above 0", cost.ratio);
-                    return Err(LadderError::new(files.bench, message));
-                }
-                if e.error < 0.0 || e.noise_floor.is_some_and(|f| f < 0.0) {
-                    let message = format!("{index}: a negative error or noise floor");
-                    return Err(LadderError::new(files.accuracy, message));
-                }
-                let (ratio, error, noise_floor, mode) = (cost.ratio, e.error, e.noise_floor, *mode);
-                let quantity = label;
-                out.points.push(Point {
-                    scene,
-                    quantity,
-                    mode,
-                    ratio,
-                    error,
-                    noise_floor,
-                });
             }
         }
     }
@@ -232,8 +222,7 @@ pub fn join(
             n => format!(" ({n} points left out for a value that is not a number)"),
         };
         let message = format!(
-            "nothing to draw: no scene of the join is in both this file and {}{skipped}",
-            files.accuracy.display()
+            "nothing to draw: no scene of the join is in both this file and {accuracy}{skipped}"
         );
         return Err(LadderError::new(files.bench, message));
     }

@@ -4,12 +4,9 @@
 //! cargo run --release -p kimpact-bench --bin kimpact-ladder
 //! ```
 //!
-//! It reads what the bench wrote (`docs/bench/results.csv`, rows of
-//! [`kimpact_harness::BenchRow`]) and what the accuracy study wrote
-//! (`docs/accuracy-summary.json`, an [`kimpact_harness::AccuracySummary`])
-//! with the types that wrote them, joins them (`join.rs` holds every rule)
-//! and writes `docs/ladder.svg` and `docs/ladder.md`, whole or
-//! not at all.
+//! It reads the bench's `results.csv` and the accuracy study's summary with
+//! the types that wrote them, joins them (`join.rs` holds every rule) and
+//! writes `docs/ladder.svg` and `docs/ladder.md`, whole or not at all.
 
 mod join;
 mod page;
@@ -81,10 +78,8 @@ fn read_summary(path: &Path) -> Result<AccuracySummary, LadderError> {
 }
 
 fn run(args: &Args) -> Result<String, LadderError> {
-    let (rows, summary) = (
-        read_bench(&args.bench_csv)?,
-        read_summary(&args.accuracy_json)?,
-    );
+    let rows = read_bench(&args.bench_csv)?;
+    let summary = read_summary(&args.accuracy_json)?;
     let files = join::Files {
         bench: &args.bench_csv,
         accuracy: &args.accuracy_json,
@@ -105,14 +100,10 @@ fn run(args: &Args) -> Result<String, LadderError> {
 }
 
 fn main() -> ExitCode {
-    match run(&Args::parse()) {
-        Ok(done) => {
-            eprintln!("kimpact-ladder: {done}");
-            ExitCode::SUCCESS
-        }
-        Err(e) => {
-            eprintln!("kimpact-ladder: {e}");
-            ExitCode::FAILURE
-        }
-    }
+    let (said, code) = match run(&Args::parse()) {
+        Ok(done) => (done, ExitCode::SUCCESS),
+        Err(e) => (e.to_string(), ExitCode::FAILURE),
+    };
+    eprintln!("kimpact-ladder: {said}");
+    code
 }

@@ -1,13 +1,10 @@
-//! `ladder.svg`, drawn with plotters: one panel per quantity of the join,
-//! the error against ×native on log axes, one point per (scene, mode)
-//! coloured by mode ([`kimpact_harness::color`], as every plot of this
-//! package), the modes of a scene joined in ladder order by a grey line
-//! (one dash style per scene) labelled with the scene, each noise floor a
-//! dotted line. Every point is a `<circle>` of the SVG, and nothing else
-//! is (the legend's markers are squares).
+//! `ladder.svg`: one panel per quantity, the error against ×native on log
+//! axes, a point per (scene, mode) coloured by mode, a scene's modes joined
+//! by a grey line, each noise floor dotted. Every point is a `<circle>` of
+//! the SVG, and nothing else is (the legend's markers are squares).
 
 use kimpact::Mode;
-use kimpact_harness::{Method, color};
+use kimpact_harness::{Method, color, decimal, legend};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
@@ -46,6 +43,19 @@ fn ticks(lo: f64, hi: f64) -> (Vec<f64>, usize) {
     (range.map(|i| i as f64 * step).collect(), decimals(step))
 }
 
+/// The y axis of `points`: the whole decades of the errors and floors (one
+/// more below for the zeros), 4% wider at each end.
+fn y_axis(points: &[&Point]) -> (f64, f64) {
+    let floors = points.iter().filter_map(|p| p.noise_floor);
+    let values = points.iter().map(|p| drawn(p, f64::NAN)).chain(floors);
+    let logs = values.filter(|v| *v > 0.0).map(f64::log10);
+    let (lo, hi) = logs.fold((0.0f64, -3.0f64), |(a, b), v| (a.min(v), b.max(v)));
+    let zeros = points.iter().any(|p| p.level() == Level::Zero);
+    let (lo, hi) = (lo.floor() - f64::from(zeros), hi.ceil());
+    let margin = 0.04 * (hi - lo);
+    (10f64.powf(lo - margin), 10f64.powf(hi + margin))
+}
+
 /// One quantity's panel into `area`, its x axis `x0..x1`; the legend in
 /// its upper right corner (no mode is both costly and inaccurate).
 fn panel(
@@ -55,16 +65,7 @@ fn panel(
     (x0, x1): (f64, f64),
 ) -> Result<(), String> {
     let e = |e: DrawingAreaErrorKind<_>| e.to_string();
-    // The whole decades of the errors and floors (one more below for the
-    // zeros), 4% wider at each end.
-    let floors = points.iter().filter_map(|p| p.noise_floor);
-    let values = points.iter().map(|p| drawn(p, f64::NAN)).chain(floors);
-    let logs = values.filter(|v| *v > 0.0).map(f64::log10);
-    let (lo, hi) = logs.fold((0.0f64, -3.0f64), |(a, b), v| (a.min(v), b.max(v)));
-    let zeros = points.iter().any(|p| p.level() == Level::Zero);
-    let (lo, hi) = (lo.floor() - f64::from(zeros), hi.ceil());
-    let margin = 0.04 * (hi - lo);
-    let (y0, y1) = (10f64.powf(lo - margin), 10f64.powf(hi + margin));
+    let (y0, y1) = y_axis(points);
     let (xticks, decimals) = ticks(x0, x1);
     let x = (x0..x1).log_scale().with_key_points(xticks);
     let mut chart = ChartBuilder::on(area)
@@ -78,23 +79,14 @@ fn panel(
         .configure_mesh()
         .light_line_style(WHITE.mix(0.0))
         .bold_line_style(BLACK.mix(0.08))
-        .x_label_formatter(&|x| {
-            let s = format!("{x:.decimals$}");
-            if s.contains('.') {
-                s.trim_end_matches('0').trim_end_matches('.').to_owned()
-            } else {
-                s
-            }
-        })
+        .x_label_formatter(&|x| decimal(*x, decimals))
         .y_label_formatter(&|y| format!("{y:.0e}"))
         .x_desc("× native rapier (time per step)")
         .y_desc("error")
         .draw()
         .map_err(e)?;
-    let mut floors: Vec<f64> = points
-        .iter()
-        .filter_map(|p| p.noise_floor.filter(|f| *f > 0.0))
-        .collect();
+    let floors = points.iter().filter_map(|p| p.noise_floor);
+    let mut floors: Vec<f64> = floors.filter(|f| *f > 0.0).collect();
     floors.sort_by(f64::total_cmp);
     floors.dedup();
     for (i, f) in floors.into_iter().enumerate() {
@@ -141,13 +133,7 @@ fn panel(
             .label(mode.name())
             .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 10, y + 5)], c.filled()));
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .draw()
-        .map_err(e)
+    legend(&mut chart, SeriesLabelPosition::UpperRight)
 }
 
 /// The ladder plot of `join` as an SVG document: a title, then one panel
