@@ -68,6 +68,11 @@ mod d2_f64 {
     fn exact_elastic_gas_keeps_its_energy_for_10000_steps() {
         exact_gas_check();
     }
+
+    #[test]
+    fn exact_elastic_dice_keep_their_energy_for_10000_steps() {
+        dice_check(10_000);
+    }
 }
 
 mod d3_f64 {

@@ -171,6 +171,141 @@ struct Scratch {
     verdicts: Vec<Verdict>,
 }
 
+/// Whether two velocities are more than the rest speed apart (a NaN is
+/// apart).
+#[derive(Copy, Clone)]
+struct Apart {
+    /// The rest speed, squared.
+    rest2: Real,
+}
+
+impl Apart {
+    fn test(self, a: Vector, b: Vector) -> bool {
+        !matches!(
+            (a - b).length_squared().partial_cmp(&self.rest2),
+            Some(Ordering::Less | Ordering::Equal)
+        )
+    }
+}
+
+impl Scratch {
+    /// Members whose boxes are more than `Calm::BIG` times the mean size
+    /// go to the boxes tested one by one (their bodies are never calm);
+    /// the others into the grid.
+    fn set_large_apart(&mut self) {
+        let mut sum: f64 = 0.0;
+        for m in &self.members {
+            sum += f64::from((m.aabb.maxs - m.aabb.mins).max_element());
+        }
+        let mean = sum / self.members.len().max(1) as f64;
+        // f64 → Real: a conversion in the f32 build only.
+        #[allow(clippy::unnecessary_cast)]
+        let cut = Calm::BIG * mean as Real;
+        self.in_grid.clear();
+        for (i, m) in self.members.iter().enumerate() {
+            if (m.aabb.maxs - m.aabb.mins).max_element() > cut {
+                // Never calm itself: its body is not eligible.
+                self.taken[m.body as usize].eligible = false;
+                self.one_by_one.push((m.aabb, m.velocity, i as u32));
+            } else {
+                self.in_grid.push(i as u32);
+            }
+        }
+    }
+
+    /// The other governed colliders in the members' region, to the boxes
+    /// tested one by one.
+    fn add_region_partners(&mut self, f: &Frame) {
+        let Some(region) = self.region else {
+            return;
+        };
+        let dispatcher = DefaultQueryDispatcher;
+        let tree = f
+            .broad_phase
+            .as_query_pipeline(&dispatcher, f.bodies, f.colliders, QueryFilter::default())
+            .bvh;
+        let (stamp, epoch) = (&self.stamp, self.epoch);
+        let one_by_one = &mut self.one_by_one;
+        for_each_leaf(tree, |index, node| {
+            // (The tree's leaves hold live colliders: the index is one's.)
+            if stamp.get_by_index(index) == Some(&epoch) || !region.intersects(&node.aabb()) {
+                return;
+            }
+            if let Some(other) = partner(f, index) {
+                one_by_one.push(other);
+            }
+        });
+    }
+
+    /// The grid's members judged against each other: two of different
+    /// bodies whose boxes meet are not calm if `apart`, a pair kept if in
+    /// contact reach. The number of pairs kept; `None` when the boxes are
+    /// not griddable.
+    fn join_members(&mut self, apart: Apart) -> Option<usize> {
+        let members = &self.members;
+        let in_grid = &self.in_grid;
+        let calm = &mut self.calm;
+        if !self
+            .grid
+            .build(in_grid.iter().map(|&i| members[i as usize].aabb))
+        {
+            return None;
+        }
+        let mut kept = 0;
+        // Two members whose boxes meet, judged.
+        let verdict = |a: u32, b: u32| {
+            let (i, j) = (in_grid[a as usize] as usize, in_grid[b as usize] as usize);
+            let (p, q) = (&members[i], &members[j]);
+            if p.body == q.body {
+                None
+            } else if apart.test(p.velocity, q.velocity) {
+                Some(Verdict::Apart(i as u32, j as u32))
+            } else if p.contact.intersects(&q.contact) {
+                Some(Verdict::Kept)
+            } else {
+                None
+            }
+        };
+        let mut apply = |v: Verdict| match v {
+            Verdict::Apart(i, j) => {
+                calm[i as usize] = false;
+                calm[j as usize] = false;
+            }
+            Verdict::Kept => kept += 1,
+        };
+        #[cfg(not(feature = "parallel"))]
+        self.grid
+            .self_join(|a, b| verdict(a, b).into_iter().for_each(&mut apply));
+        #[cfg(feature = "parallel")]
+        {
+            // Judged on rayon's pool; applied here (in any order: the
+            // same flags and count).
+            let mut verdicts = std::mem::take(&mut self.verdicts);
+            verdicts.clear();
+            self.grid.par_self_join(verdict, &mut verdicts);
+            verdicts.iter().copied().for_each(&mut apply);
+            self.verdicts = verdicts;
+        }
+        Some(kept)
+    }
+
+    /// The boxes tested one by one against the grid's members: a member of
+    /// another body whose box meets one and whose velocity is `apart` is
+    /// not calm.
+    fn join_one_by_one(&mut self, apart: Apart) {
+        let (members, in_grid, calm) = (&self.members, &self.in_grid, &mut self.calm);
+        for &(aabb, velocity, own) in &self.one_by_one {
+            let body = members.get(own as usize).map(|m| m.body);
+            self.grid.overlaps(&aabb, |g| {
+                let i = in_grid[g as usize] as usize;
+                if Some(members[i].body) != body && apart.test(members[i].velocity, velocity) {
+                    calm[i] = false;
+                }
+            });
+        }
+    }
+}
+
 /// What the join of the members' boxes makes of two members whose boxes
 /// meet (none: they are one body's, or neither apart nor in contact reach).
 #[derive(Copy, Clone)]
@@ -297,120 +432,30 @@ impl Calm {
     /// governed collider in their region.
     pub fn judge(&mut self, f: &Frame, rest_speed: Real) -> Judged {
         let s = &mut self.scratch;
-        let rest2 = rest_speed * rest_speed;
-        // Apart unless at most the rest speed apart: a NaN is apart.
-        let apart = |a: Vector, b: Vector| {
-            !matches!(
-                (a - b).length_squared().partial_cmp(&rest2),
-                Some(Ordering::Less | Ordering::Equal)
-            )
+        let apart = Apart {
+            rest2: rest_speed * rest_speed,
         };
         s.calm.clear();
         s.calm.resize(s.members.len(), true);
-        // Large boxes out of the grid.
-        let mut sum: f64 = 0.0;
-        for m in &s.members {
-            sum += f64::from((m.aabb.maxs - m.aabb.mins).max_element());
-        }
-        let mean = sum / s.members.len().max(1) as f64;
-        // f64 → Real: a conversion in the f32 build only.
-        #[allow(clippy::unnecessary_cast)]
-        let cut = Self::BIG * mean as Real;
-        s.in_grid.clear();
-        for (i, m) in s.members.iter().enumerate() {
-            if (m.aabb.maxs - m.aabb.mins).max_element() > cut {
-                // Never calm itself: its body is not eligible.
-                s.taken[m.body as usize].eligible = false;
-                s.one_by_one.push((m.aabb, m.velocity, i as u32));
-            } else {
-                s.in_grid.push(i as u32);
-            }
-        }
-        // The other governed colliders in the region.
-        if let Some(region) = s.region {
-            let dispatcher = DefaultQueryDispatcher;
-            let tree = f
-                .broad_phase
-                .as_query_pipeline(&dispatcher, f.bodies, f.colliders, QueryFilter::default())
-                .bvh;
-            let (stamp, epoch) = (&s.stamp, s.epoch);
-            let one_by_one = &mut s.one_by_one;
-            for_each_leaf(tree, |index, node| {
-                // (The tree's leaves hold live colliders: the index is one's.)
-                if stamp.get_by_index(index) == Some(&epoch) || !region.intersects(&node.aabb()) {
-                    return;
-                }
-                if let Some(other) = partner(f, index) {
-                    one_by_one.push(other);
-                }
-            });
-        }
-        let members = &s.members;
-        let in_grid = &s.in_grid;
-        let calm = &mut s.calm;
-        if !s
-            .grid
-            .build(in_grid.iter().map(|&i| members[i as usize].aabb))
-        {
+        s.set_large_apart();
+        s.add_region_partners(f);
+        let Some(kept) = s.join_members(apart) else {
             // Not griddable (extents the scalar cannot hold): none calm.
             return Judged {
                 fast: s.fast,
                 ..Judged::default()
             };
-        }
-        let mut kept = 0;
-        // Two members whose boxes meet, judged.
-        let verdict = |a: u32, b: u32| {
-            let (i, j) = (in_grid[a as usize] as usize, in_grid[b as usize] as usize);
-            let (p, q) = (&members[i], &members[j]);
-            if p.body == q.body {
-                None
-            } else if apart(p.velocity, q.velocity) {
-                Some(Verdict::Apart(i as u32, j as u32))
-            } else if p.contact.intersects(&q.contact) {
-                Some(Verdict::Kept)
-            } else {
-                None
-            }
         };
-        let mut apply = |v: Verdict| match v {
-            Verdict::Apart(i, j) => {
-                calm[i as usize] = false;
-                calm[j as usize] = false;
-            }
-            Verdict::Kept => kept += 1,
-        };
-        #[cfg(not(feature = "parallel"))]
-        s.grid
-            .self_join(|a, b| verdict(a, b).into_iter().for_each(&mut apply));
-        #[cfg(feature = "parallel")]
-        {
-            // Judged on rayon's pool; applied here (in any order: the
-            // same flags and count).
-            let mut verdicts = std::mem::take(&mut s.verdicts);
-            verdicts.clear();
-            s.grid.par_self_join(verdict, &mut verdicts);
-            verdicts.iter().copied().for_each(&mut apply);
-            s.verdicts = verdicts;
-        }
-        for &(aabb, velocity, own) in &s.one_by_one {
-            let body = members.get(own as usize).map(|m| m.body);
-            s.grid.overlaps(&aabb, |g| {
-                let i = in_grid[g as usize] as usize;
-                if Some(members[i].body) != body && apart(members[i].velocity, velocity) {
-                    calm[i] = false;
-                }
-            });
-        }
+        s.join_one_by_one(apart);
         let mut count = 0;
         for t in &mut s.taken {
-            t.calm = t.eligible && t.fast && (t.first..t.end).all(|i| calm[i as usize]);
+            t.calm = t.eligible && t.fast && (t.first..t.end).all(|i| s.calm[i as usize]);
             count += usize::from(t.calm);
         }
         Judged {
             fast: s.fast,
             calm: count,
-            members: members.len(),
+            members: s.members.len(),
             kept,
         }
     }

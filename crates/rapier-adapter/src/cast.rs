@@ -35,6 +35,28 @@ pub(crate) struct Moving<'a> {
     pub shape: &'a dyn Shape,
 }
 
+/// Whether a prediction looks back into the previous step for a pair that
+/// overlaps where it starts.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub(crate) enum Rewind {
+    /// A pair first seen overlapping (a candidate, or one a sweep finds at
+    /// the start of the step): its meeting is searched back to `−dt`.
+    Allowed,
+    /// A pair predicted again after an impact: from then on only.
+    Never,
+}
+
+impl Rewind {
+    /// A pair brought in at `from`: rewound only at the start of the step.
+    pub(crate) fn at(from: Real) -> Self {
+        if from == 0.0 {
+            Rewind::Allowed
+        } else {
+            Rewind::Never
+        }
+    }
+}
+
 /// What a pair that starts in contact (touching or overlapping) is to a
 /// cast.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]

@@ -12,7 +12,7 @@ use crate::frame::StepFrame;
 use crate::marks::Marks;
 use crate::math::{Real, Vector};
 use crate::policy::{Policy, Response};
-use crate::prepare::Prepare;
+use crate::prepare::{Prepare, Touches};
 use crate::rapier::prelude::*;
 use crate::rigid_replay::Claims;
 use crate::rigid_view::point_velocity;
@@ -34,6 +34,10 @@ pub struct StepHooks<'a> {
     /// user, [`Prepare::is_ours`]) and which of them touch something
     /// ([`Prepare::is_crowded`]).
     pub(crate) prepare: &'a Prepare,
+    /// Where the hook records the colliders it leaves touching.
+    pub(crate) touches: &'a Touches,
+    /// The step's number for `touches`.
+    pub(crate) epoch: u32,
     pub(crate) candidates: &'a Candidates,
     /// The rigid replay's pairs (impulse and exact mode).
     pub(crate) claims: &'a Claims,
@@ -94,8 +98,8 @@ impl PhysicsHooks for StepHooks<'_> {
             ModifiableContacts::Soft(_) => true,
         };
         if touching {
-            self.prepare.touch(c1);
-            self.prepare.touch(c2);
+            self.touches.touch(c1, self.epoch);
+            self.touches.touch(c2, self.epoch);
         }
     }
 }
@@ -315,26 +319,11 @@ impl StepHooks<'_> {
             let u = point_velocity(bodies, rb2, point) - point_velocity(bodies, rb1, point);
             -u.dot(n) > 0.0
         };
-        let mut first = None;
-        let (mut a1, mut a2, mut gap, mut dist) = (Vector::ZERO, Vector::ZERO, 0.0, Real::MAX);
-        let (mut count, mut fresh) = (0usize, true);
-        for (i, c) in rigid.solver_contacts.iter().enumerate() {
-            if closes(c) {
-                first.get_or_insert(i);
-                a1 += c.anchor1;
-                a2 += c.anchor2;
-                gap += c.dist;
-                dist = dist.min(c.dist);
-                count += 1;
-                fresh &= c.contact_id[0] & NEW_CONTACT_BIT != 0;
-            }
-        }
-        let Some(first) = first else {
+        let Some(closing) = Closing::of(&rigid.solver_contacts[..], closes) else {
             *rigid.restitution = 0.0;
             return;
         };
-        let inverse = 1.0 / count as Real;
-        let point = (a1 + a2) * (0.5 * inverse);
+        let point = closing.point();
         let law = self.marks.law(self.law, c1, c2);
         let friction = self.marks.friction(c1, c2);
         let impact =
@@ -345,24 +334,8 @@ impl StepHooks<'_> {
             return;
         };
         *rigid.restitution = impact.restitution;
-        let rough = fresh && !friction.is_frictionless();
-        // rapier's solver bounces each solver contact of a manifold by the
-        // restitution, one after another: with several (a bar landing on
-        // its edge, a box on its face) their impulses together differ from
-        // the law's at the contact, and can raise the energy of an elastic
-        // impact. One contact at the centroid takes the law's impulse
-        // exactly (a single constraint: the contact point leaves at `e U`).
-        if count > 1 {
-            for i in (first + 1..rigid.solver_contacts.len()).rev() {
-                if closes(&rigid.solver_contacts[i]) {
-                    rigid.solver_contacts.remove(i);
-                }
-            }
-            let merged = &mut rigid.solver_contacts[first];
-            merged.anchor1 = a1 * inverse;
-            merged.anchor2 = a2 * inverse;
-            merged.dist = gap * inverse;
-        }
+        let rough = closing.fresh && !friction.is_frictionless();
+        closing.merge(rigid, closes);
         if rough {
             // The law's tangential part as rapier's friction: the solver
             // drives the contact's tangential slip to `tangent_velocity`
@@ -374,13 +347,13 @@ impl StepHooks<'_> {
             }
         }
         let reach = (impact.approach_speed + frame.gravity_speed) * frame.dt;
-        if fresh && dist <= reach * 1.01 + Real::EPSILON {
+        if closing.fresh && closing.dist <= reach * 1.01 + Real::EPSILON {
             self.candidates.push(Candidate {
                 collider1: c1,
                 collider2: c2,
                 normal: n,
                 point,
-                dist,
+                dist: closing.dist,
                 start1: b1,
                 start2: b2,
                 applied_by: AppliedBy::Solver,
@@ -415,6 +388,77 @@ impl StepHooks<'_> {
         let window = frame.dt * (1.0 + GRAZE_HORIZON);
         // Anything but a clear "no" (an unsupported shape pair) is a meeting.
         crate::cast::cast(a, b, window, InContact::Meets) != CastOutcome::Miss
+    }
+}
+
+/// The solver contacts of a manifold whose material points close.
+struct Closing {
+    /// The index of the first.
+    first: usize,
+    count: usize,
+    /// Their anchors on each body, summed.
+    anchors: [Vector; 2],
+    /// Their distances, summed.
+    gap: Real,
+    /// The smallest distance.
+    dist: Real,
+    /// Whether every one is new (carried no impulse at the last step).
+    fresh: bool,
+}
+
+impl Closing {
+    /// The closing ones of `contacts` (`closes`), `None` if none closes.
+    fn of(contacts: &[SolverContact], closes: impl Fn(&SolverContact) -> bool) -> Option<Self> {
+        let mut closing: Option<Self> = None;
+        for (i, c) in contacts.iter().enumerate() {
+            if !closes(c) {
+                continue;
+            }
+            let s = closing.get_or_insert(Self {
+                first: i,
+                count: 0,
+                anchors: [Vector::ZERO; 2],
+                gap: 0.0,
+                dist: Real::MAX,
+                fresh: true,
+            });
+            s.anchors[0] += c.anchor1;
+            s.anchors[1] += c.anchor2;
+            s.gap += c.dist;
+            s.dist = s.dist.min(c.dist);
+            s.count += 1;
+            s.fresh &= c.contact_id[0] & NEW_CONTACT_BIT != 0;
+        }
+        closing
+    }
+
+    /// Their centroid, midway between the two bodies' anchors.
+    fn point(&self) -> Vector {
+        (self.anchors[0] + self.anchors[1]) * (0.5 * (1.0 / self.count as Real))
+    }
+
+    /// rapier's solver bounces each solver contact of a manifold by the
+    /// restitution, one after another: with several (a bar landing on its
+    /// edge, a box on its face) their impulses together differ from the
+    /// law's at the contact, and can raise the energy of an elastic impact.
+    /// One contact at the centroid takes the law's impulse exactly (a
+    /// single constraint: the contact point leaves at `e U`): the closing
+    /// contacts of `contacts` are merged into the first.
+    fn merge(&self, rigid: &mut ModifiableManifold, closes: impl Fn(&SolverContact) -> bool) {
+        if self.count <= 1 {
+            return;
+        }
+        let contacts = &mut rigid.solver_contacts;
+        for i in (self.first + 1..contacts.len()).rev() {
+            if closes(&contacts[i]) {
+                contacts.remove(i);
+            }
+        }
+        let inverse = 1.0 / self.count as Real;
+        let merged = &mut contacts[self.first];
+        merged.anchor1 = self.anchors[0] * inverse;
+        merged.anchor2 = self.anchors[1] * inverse;
+        merged.dist = self.gap * inverse;
     }
 }
 

@@ -53,6 +53,9 @@ struct FlagStep<'a> {
     /// mode, see [`Policy::notes_fast_bodies`]).
     notes_fast_bodies: bool,
     keep_moving_awake: bool,
+    /// `ResolverConfig::fixed_partners`: whether a moving kinematic body's
+    /// colliders are flagged (see [`Pass::flag`]).
+    fixed_partners: bool,
 }
 
 impl<'a> FlagStep<'a> {
@@ -64,6 +67,7 @@ impl<'a> FlagStep<'a> {
             threshold: 0.5 * input.frame.rest_speed,
             notes_fast_bodies: input.policy.notes_fast_bodies(),
             keep_moving_awake: input.keep_moving_awake,
+            fixed_partners: input.fixed_partners,
         }
     }
 }
@@ -90,62 +94,162 @@ pub(crate) struct Carried {
     pub calm: CalmSchedule,
 }
 
-/// The hook flags kimpact keeps between steps, and the start of the step.
+/// What lives across steps for the next prepare pass, beyond rapier's
+/// active set: the colliders marked since the last step (their bodies may
+/// not be in the active set yet: inserted, or woken, since then) and the
+/// bodies the replays gave a new velocity (rapier adds a woken body to its
+/// active set only inside the next step). `Kimpact::mark` and the replays
+/// add to it; [`Prepare::run`] reads and empties it.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Joining {
+    pub marked: Vec<ColliderHandle>,
+    pub woken: Vec<RigidBodyHandle>,
+}
+
+/// The hook's record of which flagged colliders it left with solver
+/// contacts, and at which step (see [`Touches::touch`]): written by the
+/// hook during rapier's step, read by the next step's prepare pass
+/// ([`Prepare::is_crowded`]).
 #[derive(Default)]
-pub(crate) struct Prepare {
-    /// Per collider: whether `MODIFY_SOLVER_CONTACTS` is set by us, and
-    /// when it was last flagged, crowded, swept.
-    flags: HandleMap<ColliderHandle, Flag>,
-    /// Colliders whose hook flag we set this step, but for those in
+pub(crate) struct Touches {
+    /// Per collider: the step (`epoch`) at which kimpact's hook left one of
+    /// its pairs with solver contacts, made by the prepare pass for the
+    /// colliders it flags.
+    at: HandleMap<ColliderHandle, AtomicU32>,
+}
+
+impl Touches {
+    /// Called by kimpact's hook, at step `epoch`, for each collider of a
+    /// pair it leaves with solver contacts (rapier's
+    /// `ContactPair::has_any_active_contact`). Lock-free, so that the hook
+    /// stays `Sync`.
+    pub(crate) fn touch(&self, ch: ColliderHandle, epoch: u32) {
+        if let Some(t) = self.at.get(ch) {
+            t.store(epoch, Ordering::Relaxed);
+        }
+    }
+
+    /// Whether the hook touched `ch` at step `epoch`.
+    fn touched_at(&self, ch: ColliderHandle, epoch: u32) -> bool {
+        self.at
+            .get(ch)
+            .is_some_and(|t| t.load(Ordering::Relaxed) == epoch)
+    }
+}
+
+/// What the prepare pass produced for one step: which colliders it
+/// flagged, which of them the replay sweeps, where the bodies start, and
+/// whose sleep timer restarts. The resolver hands it to the hook and the
+/// replays (in [`crate::PreparedStep`]), and gives its buffers back to the
+/// next pass.
+#[derive(Default)]
+pub(crate) struct Prepared {
+    /// The step's number, for the hook's [`Touches`].
+    pub epoch: u32,
+    /// Colliders whose hook flag is set this step, but for those in
     /// `rigid`: in impulse and exact mode, the colliders the replay sweeps.
     pub flagged: Vec<ColliderHandle>,
     /// Extended colliders of dynamic bodies (not balls centred on their
-    /// body, see `marks::is_point_collider`) whose hook flag we set this
+    /// body, see `marks::is_point_collider`) whose hook flag is set this
     /// step: the hook governs their pairs as rigid bodies at the manifold's
     /// contact in restitution mode (the rigid replay's, in impulse and exact
     /// mode), and the point replay, which moves bodies as points, never
     /// sweeps them.
     pub rigid: Vec<ColliderHandle>,
-    /// Scratch of `run`: last step's `flagged`.
-    previous: Vec<ColliderHandle>,
-    /// Scratch of `run`: last step's `rigid`.
-    previous_rigid: Vec<ColliderHandle>,
-    /// Per collider: the step (`epoch`) at which kimpact's hook left one of
-    /// its pairs with solver contacts (see [`Prepare::touch`]), made by
-    /// `flag` for the flagged colliders.
-    touched: HandleMap<ColliderHandle, AtomicU32>,
-    /// The `epoch` of the step before this one.
-    last_epoch: u32,
     /// Restitution mode: the flagged colliders whose bodies move more than
     /// a quarter of their size this step (see [`Prepare::is_swept`]).
     pub swept: Vec<ColliderHandle>,
-    epoch: u32,
-    /// Colliders marked since the last step: their bodies may not be in
-    /// rapier's active set yet (inserted, or woken, since the last step).
-    pub pending: Vec<ColliderHandle>,
-    /// Bodies kimpact gave a new velocity since the last `run`: rapier adds
-    /// a woken body to its active set only inside the next step, so `run`
-    /// looks at them then.
-    pub woken: Vec<RigidBodyHandle>,
-    /// Per body index: start-of-step translation (every law mode).
+    /// Per body: start-of-step translation (every law mode).
     pub starts: Starts,
     /// Flagged bodies whose sleep timer runs while they move faster than
     /// the rest speed (`ResolverConfig::keep_moving_awake`): woken by
-    /// [`Prepare::wake_moving`].
+    /// [`Prepared::wake_moving`].
     to_wake: Vec<RigidBodyHandle>,
+    /// Fast bodies left calm (unhooked) this step.
+    pub calm_bodies: u64,
+}
+
+impl std::fmt::Debug for Prepared {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Prepared")
+            .field("epoch", &self.epoch)
+            .field("flagged", &self.flagged.len())
+            .field("rigid", &self.rigid.len())
+            .field("swept", &self.swept.len())
+            .finish_non_exhaustive()
+    }
+}
+
+impl Prepared {
+    /// Ready for another step: the lists emptied, the starts kept (a body's
+    /// entry is overwritten when it is stored again).
+    fn reset(&mut self, epoch: u32) {
+        self.epoch = epoch;
+        self.flagged.clear();
+        self.rigid.clear();
+        self.swept.clear();
+        self.to_wake.clear();
+        self.calm_bodies = 0;
+    }
+
+    /// Restart the sleep timer (rapier's `wake_up(true)`) of every body
+    /// flagged this step that moves faster than `rest_speed` and whose
+    /// timer runs (noted while flagging, with `ResolverConfig::keep_moving_awake`),
+    /// so that rapier never puts a marked body to sleep (and zeroes its
+    /// velocity) while it moves faster than the rest speed. A body at rest
+    /// (a settled pile) is never flagged and sleeps as rapier lets it.
+    /// Reads only those bodies; allocates nothing in steady state.
+    pub(crate) fn wake_moving(&self, bodies: &mut RigidBodySet) {
+        for &handle in &self.to_wake {
+            if let Some(rb) = bodies.get_mut(handle) {
+                rb.wake_up(true);
+            }
+        }
+    }
+}
+
+/// The hook flags kimpact keeps between steps and when the calm test runs
+/// next; [`Prepare::run`] is the pass that sets them before each step.
+#[derive(Default)]
+pub(crate) struct Prepare {
+    /// Per collider: whether `MODIFY_SOLVER_CONTACTS` is set by us, and
+    /// when it was last flagged, crowded, swept.
+    flags: HandleMap<ColliderHandle, Flag>,
+    /// The colliders whose flag kimpact set at the last step (cleared by
+    /// the next one unless flagged again).
+    hooked: Vec<ColliderHandle>,
+    /// The `epoch` of this step (counted from 1; 0: none yet).
+    epoch: u32,
+    /// The `epoch` of the step before this one.
+    last_epoch: u32,
     /// Calm neighbourhoods (`ResolverConfig::calm_neighbourhoods`).
     calm: Calm,
-    /// This step's `ResolverConfig::fixed_partners`: whether a moving kinematic
-    /// body's colliders are flagged (see [`Prepare::flag`]).
-    partners: bool,
-    /// Scratch of the parallel pass: the awake bodies.
+    scratch: Scratch,
+}
+
+/// The pass's own working space, kept so that a steady state allocates
+/// nothing.
+#[derive(Default)]
+struct Scratch {
+    /// Last step's `hooked`, while the pass clears its stale flags.
+    previous: Vec<ColliderHandle>,
+    /// The awake bodies (the parallel pass).
     #[cfg(feature = "parallel")]
-    #[cfg_attr(feature = "serde-serialize", serde(skip))]
     active: Vec<RigidBodyHandle>,
-    /// Scratch of the parallel pass: what it read of each awake body.
+    /// What the parallel pass read of each awake body.
     #[cfg(feature = "parallel")]
-    #[cfg_attr(feature = "serde-serialize", serde(skip))]
     scans: Vec<Scan>,
+}
+
+/// One run of the pass: the flags it sets, what it produces, and the
+/// step's settings.
+struct Pass<'p, 'a> {
+    flags: &'p mut HandleMap<ColliderHandle, Flag>,
+    touches: &'p mut Touches,
+    out: &'p mut Prepared,
+    step: FlagStep<'a>,
+    epoch: u32,
+    last_epoch: u32,
 }
 
 /// What stage 1 keeps of a collider it flagged.
@@ -182,23 +286,24 @@ enum Scan {
 const SCAN_RUN: usize = 256;
 
 impl Prepare {
-    /// What this carries to the next step.
-    pub(crate) fn carried(&self) -> Carried {
+    /// What this carries to the next step, with what is `joining` it.
+    pub(crate) fn carried(&self, joining: &Joining) -> Carried {
         Carried {
             // Every collider carrying our flag (the restored step clears
             // those it does not flag again).
-            hooked: self.flagged.iter().chain(&self.rigid).copied().collect(),
-            marked_since_step: self.pending.clone(),
-            woken: self.woken.clone(),
+            hooked: self.hooked.clone(),
+            marked_since_step: joining.marked.clone(),
+            woken: joining.woken.clone(),
             calm: self.calm.schedule,
         }
     }
 
-    /// The state `carried` leaves for the next step. The epoch starts
-    /// afresh: the next step reads whether a collider flagged at the last
-    /// one touches something from rapier's narrow phase (as for a collider
-    /// flagged afresh), which says what the hook recorded then.
-    pub(crate) fn from_carried(carried: Carried) -> Self {
+    /// The state `carried` leaves for the next step, and what joins it.
+    /// The epoch starts afresh: the next step reads whether a collider
+    /// flagged at the last one touches something from rapier's narrow phase
+    /// (as for a collider flagged afresh), which says what the hook
+    /// recorded then.
+    pub(crate) fn from_carried(carried: Carried) -> (Self, Joining) {
         let Carried {
             hooked,
             marked_since_step,
@@ -213,52 +318,58 @@ impl Prepare {
             };
             flags.insert(ch, flag);
         }
-        Self {
+        let prepare = Self {
             flags,
-            flagged: hooked,
-            pending: marked_since_step,
-            woken,
+            hooked,
             calm: Calm::with_schedule(calm),
             ..Self::default()
-        }
+        };
+        let joining = Joining {
+            marked: marked_since_step,
+            woken,
+        };
+        (prepare, joining)
     }
 
     /// Set the hook flag on the marked colliders of moving, awake dynamic
     /// bodies (only they can start an impact), clear the flags we set on
-    /// others, and store where those bodies start the step.
+    /// others, and store where those bodies start the step, in `out` (the
+    /// last step's, whose buffers are reused), which it returns.
     ///
-    /// Walks rapier's active (awake) bodies, the colliders marked since the
-    /// last step and the bodies kimpact woke (rapier adds those to its active
-    /// set only inside the next step), never the whole set: a scene of
-    /// resting bodies costs nothing. (A sleeping body the user wakes between
-    /// steps joins one step later, when rapier has made it active.) Flags
-    /// that stay are not touched (rapier treats a collider borrowed mutably
-    /// as modified).
-    ///
-    /// Returns the number of fast bodies left calm (unhooked) this step.
-    pub(crate) fn run(&mut self, input: &PrepareInput, colliders: &mut ColliderSet) -> u64 {
+    /// Walks rapier's active (awake) bodies and those `joining` the step
+    /// (which it empties), never the whole set: a scene of resting bodies
+    /// costs nothing. (A sleeping body the user wakes between steps joins
+    /// one step later, when rapier has made it active.) Flags that stay are
+    /// not touched (rapier treats a collider borrowed mutably as modified).
+    /// `touches` gets a slot for every collider flagged, for the hook.
+    pub(crate) fn run(
+        &mut self,
+        input: &PrepareInput,
+        colliders: &mut ColliderSet,
+        joining: &mut Joining,
+        touches: &mut Touches,
+        mut out: Prepared,
+    ) -> Prepared {
         let PrepareInput {
             islands,
             bodies,
             policy,
             ..
         } = *input;
-        let step = FlagStep::new(input);
-        self.partners = input.fixed_partners;
-        let mut calm_bodies = 0;
         self.last_epoch = self.epoch;
         self.epoch = self.epoch.wrapping_add(1).max(1);
-        std::mem::swap(&mut self.previous, &mut self.flagged);
-        self.flagged.clear();
-        std::mem::swap(&mut self.previous_rigid, &mut self.rigid);
-        self.rigid.clear();
-        self.swept.clear();
-        self.to_wake.clear();
+        out.reset(self.epoch);
+        let mut pass = Pass {
+            flags: &mut self.flags,
+            touches,
+            out: &mut out,
+            step: FlagStep::new(input),
+            epoch: self.epoch,
+            last_epoch: self.last_epoch,
+        };
         if policy.acts() {
             let fast = if input.calm_neighbourhoods && self.calm.wanted() {
-                let (fast, calm) = self.prepare_calm(input, &step, colliders);
-                calm_bodies = calm;
-                fast
+                pass.prepare_calm(input, &mut self.calm, colliders)
             } else {
                 // Every awake body, at every step: a tight pass reads only
                 // the velocity of a slow body (a body's data spans several
@@ -270,39 +381,30 @@ impl Prepare {
                 // the rest at once, while its lines are in the cache (a
                 // second pass over the fast bodies missed them again in a
                 // gas, where all are fast).
-                self.scan_active(islands, bodies, colliders, &step)
+                pass.scan_active(islands, bodies, colliders, &mut self.scratch)
             };
             self.calm.schedule.last_fast = u32::try_from(fast).unwrap_or(u32::MAX);
             self.calm.schedule.last_awake =
                 u32::try_from(islands.num_active_bodies()).unwrap_or(u32::MAX);
-            let mut pending = std::mem::take(&mut self.pending);
-            for &ch in &pending {
+            for &ch in &joining.marked {
                 if let Some(handle) = colliders.get(ch).and_then(|co| co.parent()) {
-                    self.prepare_body(handle, bodies, colliders, &step);
+                    pass.prepare_body(handle, bodies, colliders);
                 }
             }
-            pending.clear();
-            self.pending = pending;
-            let mut woken = std::mem::take(&mut self.woken);
-            for &handle in &woken {
-                self.prepare_body(handle, bodies, colliders, &step);
+            for &handle in &joining.woken {
+                pass.prepare_body(handle, bodies, colliders);
             }
-            woken.clear();
-            self.woken = woken;
-        } else {
-            self.pending.clear();
-            self.woken.clear();
         }
+        joining.marked.clear();
+        joining.woken.clear();
         // Last step's flags not renewed: cleared.
-        let previous = std::mem::take(&mut self.previous);
+        let mut previous = std::mem::take(&mut self.scratch.previous);
+        std::mem::swap(&mut previous, &mut self.hooked);
         self.unflag_stale(&previous, colliders);
-        self.previous = previous;
-        self.previous.clear();
-        let previous = std::mem::take(&mut self.previous_rigid);
-        self.unflag_stale(&previous, colliders);
-        self.previous_rigid = previous;
-        self.previous_rigid.clear();
-        calm_bodies
+        previous.clear();
+        self.scratch.previous = previous;
+        self.hooked.extend(out.flagged.iter().chain(&out.rigid));
+        out
     }
 
     /// Clear our hook flag on the colliders of `previous` (flagged last
@@ -338,7 +440,7 @@ impl Prepare {
     /// rapier's last step, so rapier's solver may push its body off the
     /// straight path the hook would judge a graze on. For a collider
     /// flagged in the last step too, kimpact's hook saw every one of its
-    /// pairs then ([`Prepare::touch`]); for one flagged afresh, its
+    /// pairs then ([`Touches::touch`]); for one flagged afresh, its
     /// contact pairs in the narrow phase are read.
     pub(crate) fn is_crowded(&self, ch: ColliderHandle) -> bool {
         self.flags.get(ch).is_some_and(|f| f.crowded == self.epoch)
@@ -350,58 +452,41 @@ impl Prepare {
         self.flags.get(ch).is_some_and(|f| f.ours)
     }
 
-    /// Called by kimpact's hook for each collider of a pair it leaves with
-    /// solver contacts (rapier's `ContactPair::has_any_active_contact`):
-    /// the next step's [`Prepare::is_crowded`] reads it. Lock-free, so that
-    /// the hook stays `Sync`.
-    pub(crate) fn touch(&self, ch: ColliderHandle) {
-        if let Some(t) = self.touched.get(ch) {
-            t.store(self.epoch, Ordering::Relaxed);
-        }
+    /// The colliders whose hook flag kimpact set at the last step.
+    #[cfg(test)]
+    pub(crate) fn hooked(&self) -> &[ColliderHandle] {
+        &self.hooked
     }
+}
 
-    /// Restart the sleep timer (rapier's `wake_up(true)`) of every body
-    /// flagged this step that moves faster than `rest_speed` and whose
-    /// timer runs (noted while flagging, with `ResolverConfig::keep_moving_awake`),
-    /// so that rapier never puts a marked body to sleep (and zeroes its
-    /// velocity) while it moves faster than the rest speed. A body at rest
-    /// (a settled pile) is never flagged and sleeps as rapier lets it.
-    /// Reads only those bodies; allocates nothing in steady state.
-    pub(crate) fn wake_moving(&self, bodies: &mut RigidBodySet) {
-        for &handle in &self.to_wake {
-            if let Some(rb) = bodies.get_mut(handle) {
-                rb.wake_up(true);
-            }
-        }
-    }
-
+impl Pass<'_, '_> {
     /// The pass over the awake bodies: each fast one flagged, a slow one's
     /// start stored; its reads on rayon's pool with `parallel`, unless
     /// fewer than `SCAN_RUN` bodies are awake (the same stores and flags
     /// either way). The number of fast dynamic bodies.
+    #[cfg_attr(not(feature = "parallel"), allow(unused_variables))]
     fn scan_active(
         &mut self,
         islands: &IslandManager,
         bodies: &RigidBodySet,
         colliders: &mut ColliderSet,
-        step: &FlagStep,
+        scratch: &mut Scratch,
     ) -> usize {
         #[cfg(feature = "parallel")]
         if islands.num_active_bodies() >= SCAN_RUN {
-            return self.scan_parallel(islands, bodies, colliders, step);
+            return self.scan_parallel(islands, bodies, colliders, scratch);
         }
-        self.scan_serial(islands, bodies, colliders, step)
+        self.scan_serial(islands, bodies, colliders)
     }
 
-    /// [`Prepare::scan_active`] on this thread.
+    /// [`Pass::scan_active`] on this thread.
     fn scan_serial(
         &mut self,
         islands: &IslandManager,
         bodies: &RigidBodySet,
         colliders: &mut ColliderSet,
-        step: &FlagStep,
     ) -> usize {
-        let threshold = step.threshold;
+        let threshold = self.step.threshold;
         let mut fast = 0;
         for handle in islands.active_bodies() {
             let Some(rb) = bodies.get(handle) else {
@@ -409,15 +494,15 @@ impl Prepare {
             };
             if rb.linvel().length_squared() > threshold * threshold {
                 fast += usize::from(rb.is_dynamic());
-                self.prepare_rb(handle, rb, colliders, step);
+                self.prepare_rb(handle, rb, colliders);
             } else {
-                self.starts.store(handle, rb.translation());
+                self.out.starts.store(handle, rb.translation());
             }
         }
         fast
     }
 
-    /// [`Prepare::scan_serial`] with its reads on
+    /// [`Pass::scan_serial`] with its reads on
     /// rayon's pool: each body's speed judged and a slow body's start read
     /// there, in chunks, into `scans` (in the order of the active bodies);
     /// then, in that order, the starts stored and the fast bodies flagged
@@ -429,14 +514,13 @@ impl Prepare {
         islands: &IslandManager,
         bodies: &RigidBodySet,
         colliders: &mut ColliderSet,
-        step: &FlagStep,
+        scratch: &mut Scratch,
     ) -> usize {
         use rayon::prelude::*;
-        let threshold = step.threshold;
-        let mut active = std::mem::take(&mut self.active);
+        let threshold = self.step.threshold;
+        let Scratch { active, scans, .. } = scratch;
         active.clear();
         active.extend(islands.active_bodies());
-        let mut scans = std::mem::take(&mut self.scans);
         active
             .par_iter()
             .with_min_len(SCAN_RUN)
@@ -445,22 +529,20 @@ impl Prepare {
                 Some(rb) if rb.linvel().length_squared() > threshold * threshold => Scan::Fast,
                 Some(rb) => Scan::Slow(rb.translation()),
             })
-            .collect_into_vec(&mut scans);
+            .collect_into_vec(scans);
         let mut fast = 0;
-        for (&handle, scan) in active.iter().zip(&scans) {
+        for (&handle, scan) in active.iter().zip(scans.iter()) {
             match *scan {
                 Scan::Gone => {}
-                Scan::Slow(start) => self.starts.store(handle, start),
+                Scan::Slow(start) => self.out.starts.store(handle, start),
                 Scan::Fast => {
                     if let Some(rb) = bodies.get(handle) {
                         fast += usize::from(rb.is_dynamic());
-                        self.prepare_rb(handle, rb, colliders, step);
+                        self.prepare_rb(handle, rb, colliders);
                     }
                 }
             }
         }
-        self.active = active;
-        self.scans = scans;
         fast
     }
 
@@ -471,27 +553,20 @@ impl Prepare {
         handle: RigidBodyHandle,
         bodies: &RigidBodySet,
         colliders: &mut ColliderSet,
-        step: &FlagStep,
     ) {
         if let Some(rb) = bodies.get(handle) {
-            self.prepare_rb(handle, rb, colliders, step);
+            self.prepare_rb(handle, rb, colliders);
         }
     }
 
-    /// [`Prepare::prepare_body`] with the body at hand.
-    fn prepare_rb(
-        &mut self,
-        handle: RigidBodyHandle,
-        rb: &RigidBody,
-        colliders: &mut ColliderSet,
-        step: &FlagStep,
-    ) {
-        let threshold = step.threshold;
+    /// [`Pass::prepare_body`] with the body at hand.
+    fn prepare_rb(&mut self, handle: RigidBodyHandle, rb: &RigidBody, colliders: &mut ColliderSet) {
+        let threshold = self.step.threshold;
         if !rb.is_dynamic() {
             // A kinematic body faster than the threshold may strike a
             // marked body at rest, which is not flagged.
             if rb.is_kinematic() && rb.linvel().length_squared() > threshold * threshold {
-                self.flag(handle, rb, colliders, step);
+                self.flag(handle, rb, colliders);
             }
             return;
         }
@@ -499,25 +574,27 @@ impl Prepare {
             return;
         }
         let any_marked = if rb.linvel().length_squared() > threshold * threshold {
-            self.flag(handle, rb, colliders, step)
+            self.flag(handle, rb, colliders)
         } else {
-            rb.colliders().iter().any(|&ch| step.marks.contains(ch))
+            rb.colliders()
+                .iter()
+                .any(|&ch| self.step.marks.contains(ch))
         };
         if any_marked {
-            self.starts.store(handle, rb.translation());
+            self.out.starts.store(handle, rb.translation());
         }
     }
 
     /// The pass of `prepare` with calm neighbourhoods (see the `calm`
     /// module): every awake body is taken (its start stored),
     /// judged, and a fast body flagged unless calm. The number of fast
-    /// bodies and the number left calm.
+    /// bodies; the number left calm goes into `out.calm_bodies`.
     fn prepare_calm(
         &mut self,
         input: &PrepareInput,
-        step: &FlagStep,
+        calm: &mut Calm,
         colliders: &mut ColliderSet,
-    ) -> (usize, u64) {
+    ) -> usize {
         let PrepareInput {
             islands,
             bodies,
@@ -534,8 +611,7 @@ impl Prepare {
             fixed_partners,
             ..
         } = *input;
-        let threshold = step.threshold;
-        let mut calm = std::mem::take(&mut self.calm);
+        let threshold = self.step.threshold;
         calm.begin();
         let judged = {
             let frame = Frame {
@@ -553,23 +629,22 @@ impl Prepare {
                     continue;
                 };
                 let is_fast = rb.linvel().length_squared() > threshold * threshold;
-                self.starts.store(handle, rb.translation());
+                self.out.starts.store(handle, rb.translation());
                 calm.take(&frame, handle, rb, is_fast);
             }
             calm.judge(&frame, rest_speed)
         };
-        let fast = judged.fast;
         for t in calm.taken() {
             if t.fast
                 && !t.calm
                 && let Some(rb) = bodies.get(t.handle)
             {
-                self.flag(t.handle, rb, colliders, step);
+                self.flag(t.handle, rb, colliders);
             }
         }
         calm.settle(&judged);
-        self.calm = calm;
-        (fast, judged.calm as u64)
+        self.out.calm_bodies = judged.calm as u64;
+        judged.fast
     }
 
     /// Set the hook flag on the marked colliders of body `handle`, `rb`
@@ -584,12 +659,12 @@ impl Prepare {
         handle: RigidBodyHandle,
         rb: &RigidBody,
         colliders: &mut ColliderSet,
-        step: &FlagStep,
     ) -> bool {
+        let step = self.step;
         let marks = step.marks;
         let mut any_marked = false;
         let mut flagged = false;
-        let partner = self.partners && rb.is_kinematic();
+        let partner = step.fixed_partners && rb.is_kinematic();
         // How far the body moves this step (restitution mode's swept test;
         // a NaN is not swept: the hook's guard cuts it off).
         let travel = if step.notes_fast_bodies && rb.is_dynamic() {
@@ -603,7 +678,7 @@ impl Prepare {
         for &ch in rb.colliders() {
             // An extended collider on a dynamic body: the hook governs its
             // pairs as rigid bodies (see `Marks::governs_rigid`) in every
-            // law mode; the replay never sweeps it (`Prepare::rigid`).
+            // law mode; the replay never sweeps it (`Prepared::rigid`).
             let extended = marks.is_extended(ch);
             if !partner && !marks.contains(ch) {
                 continue;
@@ -633,17 +708,17 @@ impl Prepare {
             // Ours since last step (`carried`): kept, untouched.
             flag.seen = epoch;
             if extended && rb.is_dynamic() {
-                self.rigid.push(ch);
+                self.out.rigid.push(ch);
             } else {
-                self.flagged.push(ch);
+                self.out.flagged.push(ch);
             }
             flagged = true;
-            self.touched.get_or_insert_with(ch, || AtomicU32::new(0));
+            self.touches.at.get_or_insert_with(ch, || AtomicU32::new(0));
             if step.notes_fast_bodies {
                 // The replay moves bodies as points: an extended collider is
                 // never swept.
                 let travel = if extended { 0.0 } else { travel };
-                self.note_restitution(ch, carried, travel, colliders, step.narrow_phase);
+                self.note_restitution(ch, carried, travel, colliders);
             }
         }
         if flagged
@@ -652,7 +727,7 @@ impl Prepare {
             && rb.activation().time_since_can_sleep > 0.0
             && rb.linvel().length_squared() > step.frame.rest_speed * step.frame.rest_speed
         {
-            self.to_wake.push(handle);
+            self.out.to_wake.push(handle);
         }
         any_marked
     }
@@ -667,15 +742,13 @@ impl Prepare {
         carried: bool,
         travel: Real,
         colliders: &ColliderSet,
-        narrow_phase: &NarrowPhase,
     ) {
         let seen_by_hook = carried && self.last_epoch != 0;
         let crowded = if seen_by_hook {
-            self.touched
-                .get(ch)
-                .is_some_and(|t| t.load(Ordering::Relaxed) == self.last_epoch)
+            self.touches.touched_at(ch, self.last_epoch)
         } else {
-            narrow_phase
+            self.step
+                .narrow_phase
                 .contact_pairs_with(ch)
                 .any(|cp| cp.has_any_active_contact())
         };
@@ -690,7 +763,7 @@ impl Prepare {
                 .is_some_and(|co| travel > SWEPT_SHARE * half_size(co))
         {
             flag.swept_at = epoch;
-            self.swept.push(ch);
+            self.out.swept.push(ch);
         }
     }
 }

@@ -16,10 +16,10 @@ use crate::math::{Real, Vector, to_law};
 use crate::mode::Mode;
 use crate::pair_filter::PairFilter;
 use crate::policy::{Policy, Response};
-use crate::prepare::{Prepare, PrepareInput};
+use crate::prepare::{Joining, Prepare, PrepareInput, Prepared, Touches};
 use crate::rapier::prelude::*;
 use crate::replay::{Replay, ReplayInput, ReplayOutput, ReplaySets};
-use crate::rigid_replay::{RigidInput, RigidOutput, RigidReplay};
+use crate::rigid_replay::{RigidInput, RigidReplay};
 use crate::shared_frame::free_fall_velocity;
 use crate::snapshot::{Saving, Snapshot, SnapshotError};
 
@@ -46,13 +46,16 @@ pub enum HandleError {
 /// a step that was not prepared, nor finishing one twice).
 ///
 /// It holds the step's gravity, integration parameters and what its mode
-/// does as `before_step` fixed them; hand it to the same [`Kimpact`] (the
-/// resolver keeps the rest of the step's state).
+/// does as `before_step` fixed them, and what its prepare pass produced
+/// (the colliders it flagged, where the bodies start); hand it to the same
+/// [`Kimpact`], which keeps what lives across steps.
 #[derive(Debug)]
 #[must_use = "a prepared step is finished by Kimpact::after_step"]
 pub struct PreparedStep {
     frame: StepFrame,
     policy: Policy,
+    /// What the prepare pass produced: the flagged colliders, the starts.
+    prepared: Prepared,
 }
 
 /// kimpact's resolver: the law, the mode, the marked colliders, and the state
@@ -83,8 +86,15 @@ pub struct Kimpact {
     config: ResolverConfig,
     /// The marked colliders.
     marks: Marks,
-    /// Hook flags, starts, and the bodies to look at in the next step.
+    /// The hook flags kept between steps.
     prepare: Prepare,
+    /// What joins the next step beyond rapier's active set: colliders
+    /// marked since the last step, bodies the replays woke.
+    joining: Joining,
+    /// The hook's record of the colliders it left touching.
+    touches: Touches,
+    /// The last step's [`Prepared`], whose buffers the next pass reuses.
+    spare: Prepared,
     /// The pairs the hook hands over during the step.
     candidates: Candidates,
     /// Pairs the hook's runtime guard cut off during the step.
@@ -138,6 +148,9 @@ impl Kimpact {
             config,
             marks: Marks::default(),
             prepare: Prepare::default(),
+            joining: Joining::default(),
+            touches: Touches::default(),
+            spare: Prepared::default(),
             candidates: Candidates::default(),
             guarded: AtomicU64::new(0),
             log: EventLog::default(),
@@ -220,7 +233,7 @@ impl Kimpact {
         };
         self.marks
             .insert(collider, crate::marks::is_point_collider(co));
-        self.prepare.pending.push(collider);
+        self.joining.marked.push(collider);
         Ok(())
     }
 
@@ -297,7 +310,7 @@ impl Kimpact {
             config: &self.config,
             marks: &self.marks,
             stats: self.log.stats,
-            carried: self.prepare.carried(),
+            carried: self.prepare.carried(&self.joining),
         })
     }
 
@@ -318,7 +331,7 @@ impl Kimpact {
         let saved = snapshot.restore(colliders)?;
         let mut kimpact = Self::with_config(saved.law, saved.mode, saved.config)?;
         kimpact.marks = saved.marks;
-        kimpact.prepare = Prepare::from_carried(saved.carried);
+        (kimpact.prepare, kimpact.joining) = Prepare::from_carried(saved.carried);
         kimpact.log.stats = saved.stats;
         Ok(kimpact)
     }
@@ -455,11 +468,23 @@ impl Kimpact {
             calm_neighbourhoods: self.config.calm_neighbourhoods,
             keep_moving_awake: self.config.keep_moving_awake,
         };
-        self.log.stats.calm_bodies += self.prepare.run(&input, colliders);
-        self.prepare.wake_moving(bodies);
+        let spare = std::mem::take(&mut self.spare);
+        let prepared = self.prepare.run(
+            &input,
+            colliders,
+            &mut self.joining,
+            &mut self.touches,
+            spare,
+        );
+        self.log.stats.calm_bodies += prepared.calm_bodies;
+        prepared.wake_moving(bodies);
         self.rigid_replay
-            .begin(policy, &self.prepare.rigid, bodies, colliders);
-        PreparedStep { frame, policy }
+            .begin(policy, &prepared.rigid, bodies, colliders);
+        PreparedStep {
+            frame,
+            policy,
+            prepared,
+        }
     }
 
     /// Stage 2: the [`PhysicsHooks`] to pass to `PhysicsPipeline::step`
@@ -483,6 +508,8 @@ impl Kimpact {
             policy: prepared.policy,
             marks: &self.marks,
             prepare: &self.prepare,
+            touches: &self.touches,
+            epoch: prepared.prepared.epoch,
             candidates: &self.candidates,
             claims: &self.rigid_replay.claims,
             guarded: &self.guarded,
@@ -517,7 +544,11 @@ impl Kimpact {
         multibody_joints: &MultibodyJointSet,
         hooks: &dyn PhysicsHooks,
     ) {
-        let PreparedStep { frame, policy } = prepared;
+        let PreparedStep {
+            frame,
+            policy,
+            prepared,
+        } = prepared;
         let guarded = self.guarded.swap(0, Ordering::Relaxed);
         if guarded > 0 {
             log::warn!(
@@ -526,43 +557,7 @@ impl Kimpact {
             self.log.stats.skipped_non_finite += guarded;
         }
         self.candidates.collect();
-        if !policy.acts() {
-            return;
-        }
-        // The impacts rapier's solver bounced with the law's restitution:
-        // every mode's rigid bodies, restitution mode's slow balls.
-        self.report_by_solver(narrow_phase);
-        // The colliders the replay sweeps: restitution mode's fast bodies'
-        // (when there are none, every impact was rapier's solver's), every
-        // flagged one in the others.
-        let swept = match policy.response {
-            Response::SolverAndFastReplay if self.prepare.swept.is_empty() => return,
-            Response::SolverAndFastReplay => &self.prepare.swept,
-            Response::Replay | Response::Rapier => &self.prepare.flagged,
-        };
-        let input = ReplayInput {
-            law: &self.law,
-            policy,
-            config: &self.config,
-            marks: &self.marks,
-            flagged: swept,
-            starts: &self.prepare.starts,
-            candidates: self.candidates.sorted(),
-            frame,
-            filter: PairFilter::new(impulse_joints, multibody_joints, hooks),
-        };
-        let mut out = ReplayOutput {
-            log: &mut self.log,
-            woken: &mut self.prepare.woken,
-        };
-        let sets = ReplaySets {
-            bodies,
-            colliders,
-            narrow_phase,
-            broad_phase,
-        };
-        self.replay.run(&input, sets, &mut out);
-        if policy.replays_rigid() {
+        if policy.acts() {
             let filter = PairFilter::new(impulse_joints, multibody_joints, hooks);
             let sets = ReplaySets {
                 bodies,
@@ -570,41 +565,61 @@ impl Kimpact {
                 narrow_phase,
                 broad_phase,
             };
-            self.run_rigid_replay(frame, policy, sets, filter);
+            self.replay_step(frame, policy, &prepared, sets, filter);
         }
+        self.spare = prepared;
     }
 
-    /// Impulse and exact mode, after the ball replay: the rigid bodies'
-    /// impacts at their time of impact (`rigid_replay`).
-    fn run_rigid_replay(
+    /// Stage 3's work in a law mode: the report of the impacts rapier's
+    /// solver bounced, then the replays.
+    fn replay_step(
         &mut self,
         frame: StepFrame,
         policy: Policy,
-        sets: ReplaySets,
+        prepared: &Prepared,
+        mut sets: ReplaySets,
         filter: PairFilter,
     ) {
-        let input = RigidInput {
+        // The impacts rapier's solver bounced with the law's restitution:
+        // every mode's rigid bodies, restitution mode's slow balls.
+        self.report_by_solver(sets.narrow_phase);
+        // The colliders the replay sweeps: restitution mode's fast bodies'
+        // (when there are none, every impact was rapier's solver's), every
+        // flagged one in the others.
+        let swept = match policy.response {
+            Response::SolverAndFastReplay if prepared.swept.is_empty() => return,
+            Response::SolverAndFastReplay => &prepared.swept,
+            Response::Replay | Response::Rapier => &prepared.flagged,
+        };
+        let input = ReplayInput {
             law: &self.law,
+            policy,
             config: &self.config,
             marks: &self.marks,
-            rigid: &self.prepare.rigid,
-            starts: &self.prepare.starts,
+            flagged: swept,
+            starts: &prepared.starts,
+            candidates: self.candidates.sorted(),
             frame,
             filter,
-            policy,
         };
-        let mut out = RigidOutput {
+        let mut out = ReplayOutput {
             log: &mut self.log,
-            woken: &mut self.prepare.woken,
+            woken: &mut self.joining.woken,
         };
-        self.rigid_replay.run(
-            &input,
-            &mut out,
-            sets.bodies,
-            sets.colliders,
-            sets.narrow_phase,
-            sets.broad_phase,
-        );
+        self.replay.run(&input, sets.reborrow(), &mut out);
+        if policy.replays_rigid() {
+            let input = RigidInput {
+                law: &self.law,
+                config: &self.config,
+                marks: &self.marks,
+                rigid: &prepared.rigid,
+                starts: &prepared.starts,
+                frame,
+                filter,
+                policy,
+            };
+            self.rigid_replay.run(&input, &mut out, sets);
+        }
     }
 
     /// The pairs rapier's solver bounced with the law's restitution (in
@@ -717,7 +732,7 @@ mod tests {
                 .collect();
             kimpact.step_world(&mut world, &(), &());
             // This step's flags and crowding stay in place until the next.
-            for &ch in &kimpact.prepare.flagged {
+            for &ch in kimpact.prepare.hooked() {
                 let touching = touching
                     .iter()
                     .find_map(|&(c, t)| (c == ch).then_some(t))

@@ -39,6 +39,18 @@ pub(crate) struct ReplaySets<'a> {
     pub broad_phase: &'a BroadPhaseBvh,
 }
 
+impl ReplaySets<'_> {
+    /// The same sets, borrowed again for one more replay.
+    pub(crate) fn reborrow(&mut self) -> ReplaySets<'_> {
+        ReplaySets {
+            bodies: &mut *self.bodies,
+            colliders: self.colliders,
+            narrow_phase: self.narrow_phase,
+            broad_phase: self.broad_phase,
+        }
+    }
+}
+
 /// What a replay run produces besides the bodies it changes: the impact
 /// events and totals, and the bodies it gave a new velocity (woken).
 pub(crate) struct ReplayOutput<'a> {

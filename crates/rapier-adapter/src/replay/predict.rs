@@ -5,34 +5,12 @@ use std::cmp::Ordering;
 use super::context::Run;
 use super::node::{BallOnPath, Hit, Node, Pair};
 use super::state::Replay;
-use crate::cast::{CastOutcome, InContact, Moving, MovingBall, Touch, ball_ball};
+use crate::cast::{CastOutcome, InContact, Moving, MovingBall, Rewind, Touch, ball_ball};
 use crate::math::{Real, Vector};
 
 /// Approach speeds below this times the sum of the two bodies' speeds are
 /// resting contacts: rounding level (7.6e-6 in f32, 1.4e-14 in f64).
 const REST_FLOOR: Real = 64.0 * Real::EPSILON;
-
-/// Whether a prediction looks back into the previous step for a pair that
-/// overlaps where it starts.
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
-pub(super) enum Rewind {
-    /// A pair first seen overlapping (a candidate, or one a sweep finds at
-    /// the start of the step): its meeting is searched back to `−dt`.
-    Allowed,
-    /// A pair predicted again after an impact: from then on only.
-    Never,
-}
-
-impl Rewind {
-    /// A pair brought in at `from`: rewound only at the start of the step.
-    pub(super) fn at(from: Real) -> Self {
-        if from == 0.0 {
-            Rewind::Allowed
-        } else {
-            Rewind::Never
-        }
-    }
-}
 
 /// A cast of a pair: its touch, with the radius of each collider that is
 /// a ball (the contact's arm on a ball is its radius along the normal).

@@ -5,8 +5,9 @@
 use super::context::Run;
 use super::node::{BallOnPath, Sweeper};
 use super::nodes::rest_pose;
-use super::predict::{Rewind, cast_balls};
+use super::predict::cast_balls;
 use super::state::Replay;
+use crate::cast::Rewind;
 use crate::handle_map::HandleMap;
 use crate::leaves::for_each_leaf;
 use crate::math::Real;

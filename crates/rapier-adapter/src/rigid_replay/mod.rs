@@ -38,6 +38,7 @@ mod claim;
 mod motion;
 mod nodes;
 mod patch;
+mod queue;
 mod resolve;
 mod toi;
 
@@ -47,7 +48,6 @@ use kimpact::Law;
 
 use crate::body_view::Starts;
 use crate::config::ResolverConfig;
-use crate::events::EventLog;
 use crate::frame::StepFrame;
 use crate::marks::Marks;
 use crate::math::{Pose, Real, Vector};
@@ -56,10 +56,12 @@ use crate::policy::Policy;
 use crate::rapier::math::AngVector;
 use crate::rapier::parry::query::ContactManifold;
 use crate::rapier::prelude::*;
+use crate::replay::{ReplayOutput, ReplaySets};
 use crate::rigid_view::LawRigid;
 
 pub(crate) use claim::Claims;
 use motion::Motion;
+use queue::Queue;
 
 /// The time-of-impact tolerance, relative to the pair's size: the gap at
 /// which two colliders are taken as touching, `ε^(2/3)` (3.7e-11 in f64,
@@ -89,6 +91,15 @@ pub(crate) struct RigidInput<'a> {
     pub frame: StepFrame,
     pub filter: PairFilter<'a>,
     pub policy: Policy,
+}
+
+/// rapier's sets as the rigid replay reads them while it resolves.
+#[derive(Copy, Clone)]
+struct World<'a> {
+    bodies: &'a RigidBodySet,
+    colliders: &'a ColliderSet,
+    narrow_phase: &'a NarrowPhase,
+    broad_phase: &'a BroadPhaseBvh,
 }
 
 /// What a node of the replay stands for.
@@ -153,15 +164,6 @@ struct Pair {
     b: usize,
     c1: ColliderHandle,
     c2: ColliderHandle,
-    /// Its next time of impact (`None`: none before the step's end, or
-    /// touching without closing, until either body's path changes).
-    toi: Option<Real>,
-}
-
-/// What a run produces besides the bodies it changes.
-pub(crate) struct RigidOutput<'a> {
-    pub log: &'a mut EventLog,
-    pub woken: &'a mut Vec<RigidBodyHandle>,
 }
 
 /// The rigid replay's state: the hook's claims, the start poses of the
@@ -175,6 +177,13 @@ pub(crate) struct RigidReplay {
     nodes: Vec<Node>,
     node_of: HashMap<Key, usize>,
     pairs: Vec<Pair>,
+    /// Per node: the indices of its pairs.
+    pairs_of: Vec<Vec<usize>>,
+    /// The pairs' next times of impact (none: none before the step's end,
+    /// or touching without closing, until either body's path changes).
+    queue: Queue,
+    /// Scratch of `resolve`: the pairs whose times an impact changes.
+    stale: Vec<usize>,
     paired: HashSet<(ColliderHandle, ColliderHandle)>,
     manifolds: Vec<ContactManifold<(), ()>>,
     /// Scratch of the sweeps.
@@ -230,37 +239,45 @@ impl RigidReplay {
     /// pairs, and in exact mode those the sweeps of the moving rigid bodies
     /// find, at their times of impact in time order, and write the bent
     /// bodies back.
-    #[allow(clippy::too_many_arguments)]
-    pub(crate) fn run(
-        &mut self,
-        input: &RigidInput,
-        out: &mut RigidOutput,
-        bodies: &mut RigidBodySet,
-        colliders: &ColliderSet,
-        narrow_phase: &NarrowPhase,
-        broad_phase: &BroadPhaseBvh,
-    ) {
+    pub(crate) fn run(&mut self, input: &RigidInput, out: &mut ReplayOutput, sets: ReplaySets) {
+        let ReplaySets {
+            bodies,
+            colliders,
+            narrow_phase,
+            broad_phase,
+        } = sets;
         self.claims.collect();
         self.nodes.clear();
         self.node_of.clear();
         self.pairs.clear();
         self.paired.clear();
+        self.queue.clear();
+        for pairs in &mut self.pairs_of {
+            pairs.clear();
+        }
         let dt = input.frame.dt;
         if dt.is_nan() || dt <= 0.0 {
             return;
         }
+        let world = World {
+            bodies,
+            colliders,
+            narrow_phase,
+            broad_phase,
+        };
         let claimed = std::mem::take(&mut self.claims);
         for &(c1, c2) in claimed.sorted() {
             self.add_pair(input, bodies, colliders, c1, c2);
         }
         self.claims = claimed;
         for &ch in input.rigid {
-            self.sweep_start(input, bodies, colliders, narrow_phase, broad_phase, ch);
+            self.sweep_start(input, world, ch);
         }
         for i in 0..self.pairs.len() {
-            self.pairs[i].toi = self.time_of_impact(colliders, i, 0.0, dt);
+            let toi = self.time_of_impact(colliders, i, 0.0, dt);
+            self.queue.set(i, toi);
         }
-        self.resolve(input, out, bodies, colliders, narrow_phase, broad_phase);
+        self.resolve(input, out, world);
         for n in 0..self.nodes.len() {
             let node = &self.nodes[n];
             let Key::Body(h) = node.key else { continue };
@@ -283,25 +300,15 @@ impl RigidReplay {
 
     /// The events, earliest first, until no pair meets before the step's
     /// end (or the event cap).
-    fn resolve(
-        &mut self,
-        input: &RigidInput,
-        out: &mut RigidOutput,
-        bodies: &RigidBodySet,
-        colliders: &ColliderSet,
-        narrow_phase: &NarrowPhase,
-        broad_phase: &BroadPhaseBvh,
-    ) {
+    fn resolve(&mut self, input: &RigidInput, out: &mut ReplayOutput, world: World) {
+        let World {
+            bodies, colliders, ..
+        } = world;
         let dt = input.frame.dt;
         let max_events = input.config.max_events_per_step;
         let mut events = 0usize;
         loop {
-            let next = self
-                .pairs
-                .iter()
-                .enumerate()
-                .filter_map(|(i, p)| p.toi.map(|t| (t, i)))
-                .min_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+            let next = self.queue.next();
             let Some((t, i)) = next else { break };
             if events >= max_events {
                 out.log.cap_hit();
@@ -313,7 +320,7 @@ impl RigidReplay {
             let Some(bent) = self.impact(input, out, bodies, colliders, i, t) else {
                 // Touching without closing (or not for the law): idle until
                 // either body's path changes.
-                self.pairs[i].toi = None;
+                self.queue.set(i, None);
                 continue;
             };
             events += 1;
@@ -322,17 +329,23 @@ impl RigidReplay {
             // their times.
             let (a, b) = (self.pairs[i].a, self.pairs[i].b);
             let changed = |n: usize| (n == a && bent[0]) || (n == b && bent[1]);
+            // The pairs brought in by `expand` get their times there.
+            let known = self.pairs.len();
+            let mut stale = std::mem::take(&mut self.stale);
+            stale.clear();
             for n in [a, b] {
                 if changed(n) {
-                    self.expand(input, bodies, colliders, narrow_phase, broad_phase, n, t);
+                    stale.extend(self.pairs_of[n].iter().copied());
+                    self.expand(input, world, n, t);
                 }
             }
-            for j in 0..self.pairs.len() {
-                let p = self.pairs[j];
-                if changed(p.a) || changed(p.b) {
-                    self.pairs[j].toi = self.time_of_impact(colliders, j, t, dt);
-                }
+            stale.sort_unstable();
+            stale.dedup();
+            for &j in stale.iter().filter(|&&j| j < known) {
+                let toi = self.time_of_impact(colliders, j, t, dt);
+                self.queue.set(j, toi);
             }
+            self.stale = stale;
         }
     }
 

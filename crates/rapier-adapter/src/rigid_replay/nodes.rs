@@ -3,6 +3,7 @@
 //! neighbours of bent bodies bring in.
 
 use crate::body_view::translations_locked;
+use crate::cast::Rewind;
 use crate::math::{Real, Vector};
 use crate::policy::RigidSweep;
 use crate::rapier::prelude::*;
@@ -10,7 +11,19 @@ use crate::rigid_view::inverse_inertia;
 
 use super::motion::Motion;
 use super::toi::{Mover, time_of_impact};
-use super::{Key, Node, Pair, RigidInput, RigidReplay, toi_share};
+use super::{Key, Node, Pair, RigidInput, RigidReplay, World, toi_share};
+
+/// Where a sweep along a body's path starts.
+#[derive(Copy, Clone, Debug)]
+enum SweepFrom {
+    /// The step's start, before any impact: only the pairs rapier's solver
+    /// did not touch this step come in (those it touched are rapier's),
+    /// their times of impact found afterwards with every other pair's.
+    Start,
+    /// An impact at this time bent the path: every pair the rest of the
+    /// path reaches comes in, with its time of impact.
+    Impact(Real),
+}
 
 impl RigidReplay {
     /// The node of collider `ch` (its body's, or its own without a body),
@@ -49,6 +62,9 @@ impl RigidReplay {
         };
         let n = self.nodes.len();
         self.nodes.push(node);
+        if self.pairs_of.len() <= n {
+            self.pairs_of.push(Vec::new());
+        }
         self.node_of.insert(key, n);
         Some(n)
     }
@@ -120,14 +136,11 @@ impl RigidReplay {
             return None;
         }
         self.paired.insert(key);
-        self.pairs.push(Pair {
-            a,
-            b,
-            c1,
-            c2,
-            toi: None,
-        });
-        Some(self.pairs.len() - 1)
+        let i = self.pairs.len();
+        self.pairs.push(Pair { a, b, c1, c2 });
+        self.pairs_of[a].push(i);
+        self.pairs_of[b].push(i);
+        Some(i)
     }
 
     /// Collider `ch` on node `n` riding the node's path.
@@ -183,9 +196,15 @@ impl RigidReplay {
             self.mover(colliders, p.a, p.c1),
             self.mover(colliders, p.b, p.c2),
         ) {
-            (Some(a), Some(b)) => {
-                time_of_impact(&a, &b, from, to, tolerance, from == 0.0, &mut manifolds)
-            }
+            (Some(a), Some(b)) => time_of_impact(
+                &a,
+                &b,
+                from,
+                to,
+                tolerance,
+                Rewind::at(from),
+                &mut manifolds,
+            ),
             _ => None,
         };
         self.manifolds = manifolds;
@@ -198,16 +217,8 @@ impl RigidReplay {
     /// overlap): the pairs moving rigid collider `ch`'s path over the step
     /// reaches that rapier's solver did not touch this step (pairs with
     /// solver contacts are rapier's).
-    pub(super) fn sweep_start(
-        &mut self,
-        input: &RigidInput,
-        bodies: &RigidBodySet,
-        colliders: &ColliderSet,
-        narrow_phase: &NarrowPhase,
-        broad_phase: &BroadPhaseBvh,
-        ch: ColliderHandle,
-    ) {
-        let Some(n) = self.node(input, bodies, colliders, ch) else {
+    pub(super) fn sweep_start(&mut self, input: &RigidInput, world: World, ch: ColliderHandle) {
+        let Some(n) = self.node(input, world.bodies, world.colliders, ch) else {
             return;
         };
         let falls = self.nodes[n].motion.linvel.dot(input.frame.gravity) > 0.0;
@@ -217,17 +228,7 @@ impl RigidReplay {
             RigidSweep::Nobody => false,
         };
         if swept {
-            self.sweep(
-                input,
-                bodies,
-                colliders,
-                narrow_phase,
-                broad_phase,
-                n,
-                ch,
-                0.0,
-                false,
-            );
+            self.sweep(input, world, n, ch, SweepFrom::Start);
         }
     }
 
@@ -235,17 +236,13 @@ impl RigidReplay {
     /// contact pairs (touching or within rapier's prediction) and what
     /// their sweep along the new path reaches, if the law governs them as
     /// rigid pairs.
-    #[allow(clippy::too_many_arguments)]
-    pub(super) fn expand(
-        &mut self,
-        input: &RigidInput,
-        bodies: &RigidBodySet,
-        colliders: &ColliderSet,
-        narrow_phase: &NarrowPhase,
-        broad_phase: &BroadPhaseBvh,
-        n: usize,
-        t: Real,
-    ) {
+    pub(super) fn expand(&mut self, input: &RigidInput, world: World, n: usize, t: Real) {
+        let World {
+            bodies,
+            colliders,
+            narrow_phase,
+            ..
+        } = world;
         let Key::Body(h) = self.nodes[n].key else {
             return;
         };
@@ -257,41 +254,37 @@ impl RigidReplay {
                 if input.marks.governs_rigid(fixed, colliders, bodies, c1, c2)
                     && let Some(i) = self.add_pair(input, bodies, colliders, c1, c2)
                 {
-                    self.pairs[i].toi = self.time_of_impact(colliders, i, t, input.frame.dt);
+                    let toi = self.time_of_impact(colliders, i, t, input.frame.dt);
+                    self.queue.set(i, toi);
                 }
             }
-            self.sweep(
-                input,
-                bodies,
-                colliders,
-                narrow_phase,
-                broad_phase,
-                n,
-                ch,
-                t,
-                true,
-            );
+            self.sweep(input, world, n, ch, SweepFrom::Impact(t));
         }
     }
 
-    /// Sweep collider `ch` of node `n` along its path from `t` to the
+    /// Sweep collider `ch` of node `n` along its path from `when` to the
     /// step's end: every collider whose broad-phase box meets the swept box
     /// and that the law governs as a rigid pair with it (and rapier would
-    /// let touch) comes into the replay; with `all` also those rapier's
-    /// solver touched this step.
-    #[allow(clippy::too_many_arguments)]
+    /// let touch) comes into the replay; after an impact also those
+    /// rapier's solver touched this step, with their times of impact.
     fn sweep(
         &mut self,
         input: &RigidInput,
-        bodies: &RigidBodySet,
-        colliders: &ColliderSet,
-        narrow_phase: &NarrowPhase,
-        broad_phase: &BroadPhaseBvh,
+        world: World,
         n: usize,
         ch: ColliderHandle,
-        t: Real,
-        all: bool,
+        when: SweepFrom,
     ) {
+        let World {
+            bodies,
+            colliders,
+            narrow_phase,
+            broad_phase,
+        } = world;
+        let (t, all) = match when {
+            SweepFrom::Start => (0.0, false),
+            SweepFrom::Impact(t) => (t, true),
+        };
         let dt = input.frame.dt;
         let Some(co) = colliders.get(ch) else { return };
         let Some(mover) = self.mover(colliders, n, ch) else {
@@ -342,7 +335,8 @@ impl RigidReplay {
             if let Some(i) = self.add_pair(input, bodies, colliders, ch, other)
                 && all
             {
-                self.pairs[i].toi = self.time_of_impact(colliders, i, t, dt);
+                let toi = self.time_of_impact(colliders, i, t, dt);
+                self.queue.set(i, toi);
             }
         }
         self.met = met;

@@ -18,22 +18,28 @@ pub(crate) struct Patch {
     pub normal: Vector,
 }
 
-/// The patch of `a` (at pose `pa`) and `b` (at `pb`): of the manifold
-/// holding the deepest contact whose material points close (`closes(point,
-/// normal)`), the centroid of its closing contacts within `depth` of that
-/// one. Contacts are looked for up to `reach` apart. `None` when no contact
-/// closes. `manifolds` is scratch.
-#[allow(clippy::too_many_arguments)]
+/// A shape at a pose (world space).
+#[derive(Copy, Clone)]
+pub(crate) struct Placed<'a> {
+    pub shape: &'a dyn Shape,
+    pub pose: Pose,
+}
+
+/// The patch of `a` and `b`: of the manifold holding the deepest contact
+/// whose material points close (`closes(point, normal)`), the centroid of
+/// its closing contacts within `depth` of that one. Contacts are looked for
+/// up to `reach` apart. `None` when no contact closes. `manifolds` is
+/// scratch.
 pub(crate) fn patch(
-    a: &dyn Shape,
-    pa: &Pose,
-    b: &dyn Shape,
-    pb: &Pose,
+    a: Placed,
+    b: Placed,
     reach: Real,
     depth: Real,
     closes: impl Fn(Vector, Vector) -> bool,
     manifolds: &mut Vec<ContactManifold<(), ()>>,
 ) -> Option<Patch> {
+    let (pa, pb) = (&a.pose, &b.pose);
+    let (a, b) = (a.shape, b.shape);
     manifolds_at(a, pa, b, pb, reach, manifolds);
     // Each manifold's world frame: its normal and its contacts' midpoints.
     let frame = |m: &ContactManifold<(), ()>| {

@@ -10,7 +10,8 @@ use crate::rapier::prelude::*;
 
 use super::motion::from_law_angular;
 use super::patch::patch;
-use super::{Key, PATCH_TOLERANCES, REST_FLOOR, RigidInput, RigidOutput, RigidReplay};
+use super::{Key, PATCH_TOLERANCES, REST_FLOOR, RigidInput, RigidReplay};
+use crate::replay::ReplayOutput;
 
 impl RigidReplay {
     /// Pair `i` at time `t`: if its patch closes faster than the rest
@@ -21,7 +22,7 @@ impl RigidReplay {
     pub(super) fn impact(
         &mut self,
         input: &RigidInput,
-        out: &mut RigidOutput,
+        out: &mut ReplayOutput,
         bodies: &RigidBodySet,
         colliders: &ColliderSet,
         i: usize,
@@ -102,10 +103,8 @@ impl RigidReplay {
         };
         let depth = PATCH_TOLERANCES * tolerance;
         let found = patch(
-            a.shape,
-            &a.pose_at(t),
-            b.shape,
-            &b.pose_at(t),
+            a.placed_at(t),
+            b.placed_at(t),
             tolerance + depth,
             depth,
             closes,

@@ -9,6 +9,7 @@
 //! flat), and it answers "no impact" for a composite shape against a
 //! heightfield, which the advancement alone takes.
 
+use crate::cast::Rewind;
 use crate::math::{Pose, Real};
 use crate::rapier::parry::query::{
     ContactManifold, DefaultQueryDispatcher, PersistentQueryDispatcher, QueryDispatcher,
@@ -16,6 +17,7 @@ use crate::rapier::parry::query::{
 use crate::rapier::parry::shape::Shape;
 
 use super::motion::Motion;
+use super::patch::Placed;
 
 /// Conservative advancement steps at most (each a contact manifold); a
 /// pair still apart then is left for the next instant.
@@ -33,7 +35,15 @@ pub(crate) struct Mover<'a> {
     pub reach: Real,
 }
 
-impl Mover<'_> {
+impl<'a> Mover<'a> {
+    /// The collider's shape at its world pose at time `t`.
+    pub(crate) fn placed_at(&self, t: Real) -> Placed<'a> {
+        Placed {
+            shape: self.shape,
+            pose: self.pose_at(t),
+        }
+    }
+
     /// The collider's world pose at time `t`.
     pub(crate) fn pose_at(&self, t: Real) -> Pose {
         let body = self.motion.pose_at(t);
@@ -124,10 +134,11 @@ const REWIND_HALVINGS: usize = 64;
 
 /// The first time in `[from, to]` at which `a` and `b` come within
 /// `tolerance` of each other, `None` if they stay farther apart. A pair
-/// overlapping at `from` meets at `from`, or, with `rewind` (a pair first
-/// seen overlapping, which met in the previous step unseen), at the last
-/// instant of `[from − (to − from), from]` at which it was apart along the
-/// same motions (found by bisection; `from` if it was never apart then).
+/// overlapping at `from` meets at `from`, or, with [`Rewind::Allowed`] (a
+/// pair first seen overlapping, which met in the previous step unseen), at
+/// the last instant of `[from − (to − from), from]` at which it was apart
+/// along the same motions (found by bisection; `from` if it was never apart
+/// then).
 /// `manifolds` is scratch.
 pub(crate) fn time_of_impact(
     a: &Mover,
@@ -135,13 +146,13 @@ pub(crate) fn time_of_impact(
     from: Real,
     to: Real,
     tolerance: Real,
-    rewind: bool,
+    rewind: Rewind,
     manifolds: &mut Vec<ContactManifold<(), ()>>,
 ) -> Option<Real> {
     if from.is_nan() || to.is_nan() || from > to {
         return None;
     }
-    if rewind {
+    if rewind == Rewind::Allowed {
         movers_manifolds(a, b, from, tolerance.max(0.0), manifolds);
         if gap(manifolds).is_some_and(|d| d < -tolerance) {
             return Some(rewound(
@@ -153,6 +164,11 @@ pub(crate) fn time_of_impact(
                 manifolds,
             ));
         }
+    }
+    match at_start(a, b, from, to, tolerance) {
+        AtStart::BeyondReach => return None,
+        AtStart::Touching => return Some(from),
+        AtStart::InReach => {}
     }
     let dispatcher = DefaultQueryDispatcher;
     let motion = |m: &Mover| {
@@ -192,6 +208,47 @@ pub(crate) fn time_of_impact(
     }
 }
 
+/// Where a pair stands at the start of a time-of-impact search.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+enum AtStart {
+    /// Farther apart than they can close by the interval's end: they
+    /// cannot meet in it.
+    BeyondReach,
+    /// Within the tolerance (touching or overlapping): they meet now.
+    Touching,
+    /// Apart, and may meet: searched.
+    InReach,
+}
+
+/// Where `a` and `b` stand at `from` for a search up to `to`, on the bound
+/// of their closing speed that conservative advancement steps by: first
+/// their bounding spheres about the centres of mass, then, for two convex
+/// shapes, parry's distance (GJK; for composite shapes parry's distance
+/// is not always a bound, a heightfield's partner gets `f32::MAX`: in
+/// reach).
+fn at_start(a: &Mover, b: &Mover, from: Real, to: Real, tolerance: Real) -> AtStart {
+    let reach = closing_bound(a, b) * (to - from) + tolerance;
+    let centres = (a.motion.com_at(from) - b.motion.com_at(from)).length();
+    if centres - a.reach - b.reach > reach {
+        return AtStart::BeyondReach;
+    }
+    if a.shape.as_support_map().is_none() || b.shape.as_support_map().is_none() {
+        return AtStart::InReach;
+    }
+    let (pa, pb) = (a.pose_at(from), b.pose_at(from));
+    match distance(a.shape, &pa, b.shape, &pb, Real::INFINITY) {
+        Some(d) if d > reach => AtStart::BeyondReach,
+        Some(d) if d <= tolerance => AtStart::Touching,
+        _ => AtStart::InReach,
+    }
+}
+
+/// What `a` and `b` close by at most per unit of time: their relative
+/// speed plus how fast each one's turning moves its surface.
+fn closing_bound(a: &Mover, b: &Mover) -> Real {
+    (a.motion.linvel - b.motion.linvel).length() + a.turn_bound() + b.turn_bound()
+}
+
 /// Conservative advancement from `start` (apart or touching then) to the
 /// first time in `[start, to]` the gap of `a` and `b` is within `tolerance`
 /// (with the gap then): steps of the gap over the largest speed at which
@@ -204,8 +261,7 @@ fn advance(
     tolerance: Real,
     manifolds: &mut Vec<ContactManifold<(), ()>>,
 ) -> Option<(Real, Real)> {
-    // What the two close by at most per unit of time.
-    let bound = (a.motion.linvel - b.motion.linvel).length() + a.turn_bound() + b.turn_bound();
+    let bound = closing_bound(a, b);
     let mut t = start;
     for _ in 0..MAX_ADVANCES {
         let reach = bound * (to - t) + tolerance;
@@ -237,10 +293,7 @@ fn rewound(
     tolerance: Real,
     manifolds: &mut Vec<ContactManifold<(), ()>>,
 ) -> Real {
-    let reach = (a.motion.linvel - b.motion.linvel).length() * (from - back)
-        + a.turn_bound() * (from - back)
-        + b.turn_bound() * (from - back)
-        + tolerance;
+    let reach = closing_bound(a, b) * (from - back) + tolerance;
     let apart = |t: Real, manifolds: &mut Vec<ContactManifold<(), ()>>| {
         movers_manifolds(a, b, t, reach, manifolds);
         gap(manifolds).is_none_or(|d| d > 0.0)

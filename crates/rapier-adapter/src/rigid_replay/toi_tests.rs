@@ -9,7 +9,8 @@ use crate::rapier::math::AngVector;
 use crate::rapier::parry::shape::{Ball, Compound, Cuboid, HeightField, Segment, SharedShape};
 
 use super::super::motion::{Motion, zero_angvel};
-use super::super::patch::patch;
+use super::super::patch::{Placed, patch};
+use crate::cast::Rewind;
 
 /// Rounding of this precision's positions.
 fn tol() -> f64 {
@@ -117,8 +118,16 @@ fn a_turning_rod_meets_the_floor_when_its_lowest_end_does() {
             reach: 0.0,
         };
         let tolerance = (1e-3 * tol()) as Real;
-        let t = time_of_impact(&a, &b, 0.0, end as Real, tolerance, false, &mut manifolds)
-            .expect("an impact");
+        let t = time_of_impact(
+            &a,
+            &b,
+            0.0,
+            end as Real,
+            tolerance,
+            Rewind::Never,
+            &mut manifolds,
+        )
+        .expect("an impact");
         let speed = f64::from(vy.abs() + omega.abs() * 0.5 * length);
         assert!(
             (f64::from(t) - expected).abs() * speed < tol(),
@@ -148,7 +157,7 @@ fn a_rod_that_does_not_reach_the_floor_has_no_impact() {
         reach: 0.0,
     };
     assert_eq!(
-        time_of_impact(&a, &b, 0.0, 1.0, 1e-9, false, &mut manifolds),
+        time_of_impact(&a, &b, 0.0, 1.0, 1e-9, Rewind::Never, &mut manifolds),
         None
     );
 }
@@ -177,7 +186,7 @@ fn a_face_lands_at_its_centre_and_an_edge_at_its_midpoint() {
             reach: 0.0,
         };
         let tolerance = (1e-3 * tol()) as Real;
-        let t = time_of_impact(&a, &b, 0.0, 1.0, tolerance, false, &mut manifolds).unwrap();
+        let t = time_of_impact(&a, &b, 0.0, 1.0, tolerance, Rewind::Never, &mut manifolds).unwrap();
         // The lowest point's depth below the centre: h (cos θ + sin θ).
         let drop = 0.5 * (f64::from(angle).cos() + f64::from(angle).sin());
         let expected = (1.5 - drop) / 2.0;
@@ -187,10 +196,14 @@ fn a_face_lands_at_its_centre_and_an_edge_at_its_midpoint() {
         );
         let closes = |_: Vector, _: Vector| true;
         let found = patch(
-            &cube,
-            &a.pose_at(t),
-            &floor,
-            &b.pose_at(t),
+            Placed {
+                shape: &cube,
+                pose: a.pose_at(t),
+            },
+            Placed {
+                shape: &floor,
+                pose: b.pose_at(t),
+            },
             1e-4,
             1e-6,
             closes,
@@ -268,7 +281,7 @@ fn heightfields_and_compounds_are_met_in_time() {
             0.0,
             1.0,
             (1e-3 * tol()) as Real,
-            false,
+            Rewind::Never,
             &mut manifolds,
         )
         .unwrap();
@@ -302,6 +315,53 @@ fn an_overlap_is_rewound_to_its_contact() {
         shape: &floor,
         reach: 0.0,
     };
-    let t = time_of_impact(&a, &b, 0.0, 0.1, 1e-9, true, &mut manifolds).unwrap();
+    let t = time_of_impact(&a, &b, 0.0, 0.1, 1e-9, Rewind::Allowed, &mut manifolds).unwrap();
     assert!((f64::from(t) + 0.05).abs() < tol(), "t = {t}");
+}
+
+/// A pair that starts a search touching (within the tolerance) meets at
+/// the search's start, whether it closes or parts; one farther apart than
+/// it can close by the end of the search never meets, and one that can
+/// meets at `(gap − tolerance) / speed`, as a cube falling flat onto the
+/// floor does.
+#[test]
+fn a_search_starting_in_contact_meets_at_its_start() {
+    let mut manifolds = Vec::new();
+    let (ground, still) = floor();
+    let cube = Cuboid::new(Vector::splat(0.5));
+    let tolerance = (1e-3 * tol()) as Real;
+    let search = |height: Real, vy: Real, manifolds: &mut Vec<_>| {
+        // At `height` above the floor at 0.25, the search's start.
+        let mut falling = body(xy(0.0, 0.5 + height), 0.0, xy(0.0, vy), zero_angvel());
+        falling.t_ref = 0.25;
+        let a = Mover {
+            motion: &falling,
+            offset: Some(Pose::IDENTITY),
+            shape: &cube,
+            reach: 0.87,
+        };
+        let b = Mover {
+            motion: &still,
+            offset: None,
+            shape: &ground,
+            reach: 10.1 * (DIM as Real).sqrt(),
+        };
+        time_of_impact(&a, &b, 0.25, 1.0, tolerance, Rewind::Never, manifolds)
+    };
+    for vy in [-2.0, 0.0, 2.0] {
+        assert_eq!(search(0.0, vy, &mut manifolds), Some(0.25), "vy = {vy}");
+        assert_eq!(
+            search(0.5 * tolerance, vy, &mut manifolds),
+            Some(0.25),
+            "vy = {vy}"
+        );
+    }
+    // At 2 m/s for the 0.75 s left, 1.5 apart at most is reached.
+    assert_eq!(search(1.6, -2.0, &mut manifolds), None);
+    let t = search(1.0, -2.0, &mut manifolds).expect("reached");
+    let expected = 0.25 + (1.0 - f64::from(tolerance)) / 2.0;
+    assert!(
+        (f64::from(t) - expected).abs() < tol(),
+        "t = {t} for {expected}"
+    );
 }
