@@ -7,7 +7,7 @@
 //! The result is bit for bit that of `Kimpact::step` (a test checks it).
 
 use kimpact3d::rapier::prelude::*;
-use kimpact3d::{Kimpact, Law, Mode};
+use kimpact3d::{Kimpact, Law, Mode, StepSets};
 
 fn main() {
     let gravity = Vector::ZERO;
@@ -44,43 +44,38 @@ fn main() {
     }
 
     for _ in 0..120 {
+        // rapier's sets, borrowed together for the step.
+        let mut sets = StepSets {
+            islands: &mut islands,
+            broad_phase: &mut broad_phase,
+            narrow_phase: &mut narrow_phase,
+            bodies: &mut bodies,
+            colliders: &mut colliders,
+            impulse_joints: &mut impulse_joints,
+            multibody_joints: &mut multibody_joints,
+            soft_bodies: &mut soft_bodies,
+            ccd_solver: &mut ccd_solver,
+        };
         // Stage 1: hook flags, starts, impulse mode's pass.
-        let prepared = kimpact.before_step(
-            gravity,
-            &integration_parameters,
-            &islands,
-            &broad_phase,
-            &narrow_phase,
-            &mut bodies,
-            &mut colliders,
-        );
+        let prepared = kimpact.before_step(gravity, &integration_parameters, &mut sets);
         // Stage 2: rapier's own step, with kimpact's hooks (yours chained).
         pipeline.step(
             gravity,
             &integration_parameters,
-            &mut islands,
-            &mut broad_phase,
-            &mut narrow_phase,
-            &mut bodies,
-            &mut colliders,
-            &mut impulse_joints,
-            &mut multibody_joints,
-            &mut soft_bodies,
-            &mut ccd_solver,
+            sets.islands,
+            sets.broad_phase,
+            sets.narrow_phase,
+            sets.bodies,
+            sets.colliders,
+            sets.impulse_joints,
+            sets.multibody_joints,
+            sets.soft_bodies,
+            sets.ccd_solver,
             &kimpact.hooks(&prepared, &user_hooks),
             &user_events,
         );
         // Stage 3: exact mode's replay, the step's impact events.
-        kimpact.after_step(
-            prepared,
-            &narrow_phase,
-            &broad_phase,
-            &mut bodies,
-            &colliders,
-            &impulse_joints,
-            &multibody_joints,
-            &user_hooks,
-        );
+        kimpact.after_step(prepared, &mut sets, &user_hooks);
         for e in kimpact.events() {
             println!(
                 "impact at {:+.4} s: {:?} -> {:?}",

@@ -2,7 +2,7 @@
 //! system that runs in place of bevy_rapier's, with kimpact's stages
 //! around every pipeline step of the governed context.
 
-use bevy::ecs::system::{StaticSystemParam, SystemParamItem};
+use bevy::ecs::system::{StaticSystemParam, SystemParam, SystemParamItem};
 use bevy::prelude::*;
 
 use crate::bevy_rapier::dynamics::{
@@ -22,6 +22,7 @@ use crate::bevy_rapier::plugin::{
 use crate::bevy_rapier::prelude::RapierColliderHandle;
 use crate::components::{ImpactMessage, KimpactCollider, KimpactSettings};
 use crate::hooks::UserHooks;
+use crate::kimpact_rapier::StepSets;
 use crate::kimpact_rapier::math::Real;
 use crate::kimpact_rapier::rapier::prelude::PhysicsHooks;
 use crate::state::KimpactState;
@@ -178,24 +179,29 @@ fn apply_settings(state: &mut KimpactState, settings: &KimpactSettings) {
     }
 }
 
+/// The messages one step sends: bevy_rapier's and kimpact's impacts.
+#[derive(SystemParam)]
+pub(crate) struct StepMessages<'w> {
+    collision_events: MessageWriter<'w, CollisionEvent>,
+    contact_force_events: MessageWriter<'w, ContactForceEvent>,
+    quarantine_events: MessageWriter<'w, PhysicsQuarantineEvent>,
+    impacts: MessageWriter<'w, ImpactMessage>,
+}
+
 /// bevy_rapier's step system, with kimpact's stages around each pipeline
 /// step of the governed context: the same steps, events and bookkeeping as
 /// `bevy_rapier::plugin::systems::step_simulation`, which it replaces. The
 /// governed context's frame runs one step at a time (each a one-step
 /// `TimestepMode::Fixed` of the frame's step `dt`, bit for bit the step
 /// bevy_rapier would run); the others step as bevy_rapier steps them.
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn step<H>(
     mut state: ResMut<KimpactState>,
     hooks: StaticSystemParam<H>,
     timestep: Option<Res<TimestepMode>>,
     time: Res<Time>,
     mut contexts: Contexts,
-    mut collision_events: MessageWriter<CollisionEvent>,
-    mut contact_force_events: MessageWriter<ContactForceEvent>,
-    mut quarantine_events: MessageWriter<PhysicsQuarantineEvent>,
     mut interpolated: Interpolated,
-    mut impacts: MessageWriter<ImpactMessage>,
+    mut messages: StepMessages,
 ) where
     H: BevyPhysicsHooks + 'static,
     for<'w, 's> SystemParamItem<'w, 's, H>: BevyPhysicsHooks,
@@ -213,6 +219,12 @@ pub(crate) fn step<H>(
     };
     let user = UserHooks(&*hooks);
     let governed = governed(contexts.iter().map(|c| (c.0, c.7)), state);
+    let StepMessages {
+        collision_events,
+        contact_force_events,
+        quarantine_events,
+        impacts,
+    } = &mut messages;
     for (entity, mut simulation, mut colliders, mut joints, mut bodies, config, mut to_render, _) in
         contexts.iter_mut()
     {
@@ -224,8 +236,8 @@ pub(crate) fn step<H>(
             config,
             to_render: &mut to_render,
             time: &time,
-            collision_events: &mut collision_events,
-            contact_force_events: &mut contact_force_events,
+            collision_events: &mut *collision_events,
+            contact_force_events: &mut *contact_force_events,
         };
         if !config.physics_pipeline_active {
             frame
@@ -246,7 +258,7 @@ pub(crate) fn step<H>(
                 }
                 frame.as_rapier(timestep, &user, &mut interpolated);
             } else {
-                frame.with_kimpact(planned, state, &user, &mut interpolated, &mut impacts);
+                frame.with_kimpact(planned, state, &user, &mut interpolated, impacts);
             }
         }
         frame
@@ -254,7 +266,7 @@ pub(crate) fn step<H>(
             .send_bevy_events(frame.collision_events, frame.contact_force_events);
         frame
             .simulation
-            .send_quarantine_events(entity, &mut quarantine_events);
+            .send_quarantine_events(entity, quarantine_events);
     }
 }
 
@@ -358,6 +370,22 @@ impl Frame<'_, '_, '_> {
         self.simulation.integration_parameters.dt = planned.frame_dt;
     }
 
+    /// The context's rapier sets, borrowed together for kimpact's stages.
+    fn sets(&mut self) -> StepSets<'_> {
+        let simulation = &mut *self.simulation;
+        StepSets {
+            islands: &mut simulation.islands,
+            broad_phase: &mut simulation.broad_phase,
+            narrow_phase: &mut simulation.narrow_phase,
+            bodies: &mut self.bodies.bodies,
+            colliders: &mut self.colliders.colliders,
+            impulse_joints: &mut self.joints.impulse_joints,
+            multibody_joints: &mut self.joints.multibody_joints,
+            soft_bodies: &mut self.bodies.soft_bodies,
+            ccd_solver: &mut simulation.ccd_solver,
+        }
+    }
+
     /// One pipeline step of `dt` between kimpact's stages; its impacts sent.
     fn one_step<H: BevyPhysicsHooks>(
         &mut self,
@@ -368,18 +396,12 @@ impl Frame<'_, '_, '_> {
     ) {
         let mut parameters = self.simulation.integration_parameters;
         parameters.dt = dt;
-        let simulation = &mut *self.simulation;
-        let prepared = state.kimpact.before_step(
-            self.config.gravity,
-            &parameters,
-            &simulation.islands,
-            &simulation.broad_phase,
-            &simulation.narrow_phase,
-            &mut self.bodies.bodies,
-            &mut self.colliders.colliders,
-        );
+        let prepared =
+            state
+                .kimpact
+                .before_step(self.config.gravity, &parameters, &mut self.sets());
         // One step of `dt` (`dt / 1` is `dt`, bit for bit).
-        simulation.step_simulation(
+        self.simulation.step_simulation(
             self.colliders,
             self.joints,
             self.bodies,
@@ -393,17 +415,9 @@ impl Frame<'_, '_, '_> {
             None,
         );
         // Each step_simulation keeps only its own events: send them now.
-        simulation.send_bevy_events(self.collision_events, self.contact_force_events);
-        state.kimpact.after_step(
-            prepared,
-            &simulation.narrow_phase,
-            &simulation.broad_phase,
-            &mut self.bodies.bodies,
-            &self.colliders.colliders,
-            &self.joints.impulse_joints,
-            &self.joints.multibody_joints,
-            user,
-        );
+        self.simulation
+            .send_bevy_events(self.collision_events, self.contact_force_events);
+        state.kimpact.after_step(prepared, &mut self.sets(), user);
         let colliders = &*self.colliders;
         let bodies = &*self.bodies;
         let entity = |h| colliders.collider_entity(h);

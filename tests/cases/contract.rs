@@ -43,41 +43,25 @@ fn stage_scene(mode: Mode) -> (TestWorld, Vec<RigidBodyHandle>) {
 
 /// Step `w` through the three public stages around rapier's own step.
 fn step_by_stages(w: &mut TestWorld) {
-    let world = &mut w.world;
-    let prepared = w.kimpact.before_step(
-        world.gravity,
-        &world.integration_parameters,
-        &world.islands,
-        &world.broad_phase,
-        &world.narrow_phase,
-        &mut world.bodies,
-        &mut world.colliders,
-    );
-    world.physics_pipeline.step(
-        world.gravity,
-        &world.integration_parameters,
-        &mut world.islands,
-        &mut world.broad_phase,
-        &mut world.narrow_phase,
-        &mut world.bodies,
-        &mut world.colliders,
-        &mut world.impulse_joints,
-        &mut world.multibody_joints,
-        &mut world.soft_bodies,
-        &mut world.ccd_solver,
+    let (gravity, params) = (w.world.gravity, w.world.integration_parameters);
+    let (pipeline, mut sets) = k::StepSets::of_world(&mut w.world);
+    let prepared = w.kimpact.before_step(gravity, &params, &mut sets);
+    pipeline.step(
+        gravity,
+        &params,
+        sets.islands,
+        sets.broad_phase,
+        sets.narrow_phase,
+        sets.bodies,
+        sets.colliders,
+        sets.impulse_joints,
+        sets.multibody_joints,
+        sets.soft_bodies,
+        sets.ccd_solver,
         &w.kimpact.hooks(&prepared, &()),
         &(),
     );
-    w.kimpact.after_step(
-        prepared,
-        &world.narrow_phase,
-        &world.broad_phase,
-        &mut world.bodies,
-        &world.colliders,
-        &world.impulse_joints,
-        &world.multibody_joints,
-        &(),
-    );
+    w.kimpact.after_step(prepared, &mut sets, &());
 }
 
 #[test]
@@ -512,16 +496,9 @@ fn the_resolver_and_its_hooks_are_debug() {
     for part in ["Kimpact", "mode: Impulse", "marked: 2", "steps: 1", "config: ResolverConfig"] {
         assert!(shown.contains(part), "{part:?} not in {shown}");
     }
-    let world = &mut w.world;
-    let prepared = w.kimpact.before_step(
-        world.gravity,
-        &world.integration_parameters,
-        &world.islands,
-        &world.broad_phase,
-        &world.narrow_phase,
-        &mut world.bodies,
-        &mut world.colliders,
-    );
+    let (gravity, params) = (w.world.gravity, w.world.integration_parameters);
+    let (_, mut sets) = k::StepSets::of_world(&mut w.world);
+    let prepared = w.kimpact.before_step(gravity, &params, &mut sets);
     let step = format!("{prepared:?}");
     assert!(step.starts_with("PreparedStep") && step.contains("mode: Impulse"), "{step}");
     let hooks = format!("{:?}", w.kimpact.hooks(&prepared, &()));

@@ -65,22 +65,18 @@ fn run(mode: Mode) -> (f32, f32, u64) {
     let e0 = energy(&bodies);
     for _ in 0..3000 {
         // kimpact: was `pipeline.step(Vector::ZERO, &params, ..., &(), &())`
-        kimpact.step(
-            &mut pipeline,
-            Vector::ZERO,
-            &params,
-            &mut islands,
-            &mut broad_phase,
-            &mut narrow_phase,
-            &mut bodies,
-            &mut colliders,
-            &mut impulse_joints,
-            &mut multibody_joints,
-            &mut soft_bodies,
-            &mut ccd,
-            &(),
-            &(),
-        );
+        let sets = StepSets {
+            islands: &mut islands,
+            broad_phase: &mut broad_phase,
+            narrow_phase: &mut narrow_phase,
+            bodies: &mut bodies,
+            colliders: &mut colliders,
+            impulse_joints: &mut impulse_joints,
+            multibody_joints: &mut multibody_joints,
+            soft_bodies: &mut soft_bodies,
+            ccd_solver: &mut ccd,
+        };
+        kimpact.step(&mut pipeline, Vector::ZERO, &params, sets, &(), &());
     }
     (e0, energy(&bodies), kimpact.stats().impacts)
 }

@@ -83,6 +83,7 @@ mod rigid_replay;
 mod rigid_view;
 mod shared_frame;
 mod snapshot;
+mod step_sets;
 mod sweep_grid;
 #[cfg(test)]
 mod test_rng;
@@ -94,3 +95,4 @@ pub use material::Material;
 pub use mode::{Mode, ParseModeError};
 pub use resolver::{HandleError, Kimpact, PreparedStep};
 pub use snapshot::{Snapshot, SnapshotError};
+pub use step_sets::StepSets;

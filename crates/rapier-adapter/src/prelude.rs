@@ -22,5 +22,5 @@
 
 pub use crate::{
     FixedPartner, HandleError, ImpactEvent, Kimpact, Law, LawError, LawParams, Material, Mode,
-    PreparedStep, ResolverConfig, ResolverConfigError, Stats, StepHooks,
+    PreparedStep, ResolverConfig, ResolverConfigError, Stats, StepHooks, StepSets,
 };

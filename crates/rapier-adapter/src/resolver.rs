@@ -22,6 +22,7 @@ use crate::replay::{Replay, ReplayInput, ReplayOutput, ReplaySets};
 use crate::rigid_replay::{RigidInput, RigidReplay};
 use crate::shared_frame::free_fall_velocity;
 use crate::snapshot::{Saving, Snapshot, SnapshotError};
+use crate::step_sets::StepSets;
 
 /// A collider handle that is not in the collider set it was checked
 /// against.
@@ -67,12 +68,11 @@ pub struct PreparedStep {
 /// substeps) calls them in turn:
 ///
 /// ```text
-/// let prepared = kimpact.before_step(gravity, &params, &islands, &broad_phase,
-///     &narrow_phase, &mut bodies, &mut colliders);
-/// pipeline.step(gravity, &params, /* … the sets … */,
+/// let mut sets = StepSets { islands: &mut islands, /* … rapier's sets … */ };
+/// let prepared = kimpact.before_step(gravity, &params, &mut sets);
+/// pipeline.step(gravity, &params, sets.islands, /* … the same sets … */,
 ///     &kimpact.hooks(&prepared, &user_hooks), &events);
-/// kimpact.after_step(prepared, &narrow_phase, &broad_phase, &mut bodies, &colliders,
-///     &impulse_joints, &multibody_joints, &user_hooks);
+/// kimpact.after_step(prepared, &mut sets, &user_hooks);
 /// ```
 ///
 /// (`examples/stages.rs` runs it.)
@@ -343,81 +343,42 @@ impl Kimpact {
         hooks: &dyn PhysicsHooks,
         events: &dyn EventHandler,
     ) {
+        let (gravity, integration_parameters) = (world.gravity, world.integration_parameters);
+        let (pipeline, sets) = StepSets::of_world(world);
         self.step(
-            &mut world.physics_pipeline,
-            world.gravity,
-            &world.integration_parameters,
-            &mut world.islands,
-            &mut world.broad_phase,
-            &mut world.narrow_phase,
-            &mut world.bodies,
-            &mut world.colliders,
-            &mut world.impulse_joints,
-            &mut world.multibody_joints,
-            &mut world.soft_bodies,
-            &mut world.ccd_solver,
+            pipeline,
+            gravity,
+            &integration_parameters,
+            sets,
             hooks,
             events,
         );
     }
 
-    /// `PhysicsPipeline::step` through kimpact: the same arguments, the
-    /// pipeline first. `hooks` are the user's own hooks (or `&()`); they keep
-    /// working, chained before kimpact's. The composition of
-    /// [`Kimpact::before_step`], `pipeline.step` with [`Kimpact::hooks`],
-    /// and [`Kimpact::after_step`].
-    #[allow(clippy::too_many_arguments)]
+    /// `PhysicsPipeline::step` through kimpact: the pipeline, gravity and
+    /// integration parameters, rapier's sets borrowed together
+    /// ([`StepSets`]), and the hooks and event handler. `hooks` are the
+    /// user's own hooks (or `&()`); they keep working, chained before
+    /// kimpact's. The composition of [`Kimpact::before_step`],
+    /// `pipeline.step` with [`Kimpact::hooks`], and [`Kimpact::after_step`].
     pub fn step(
         &mut self,
         pipeline: &mut PhysicsPipeline,
         gravity: Vector,
         integration_parameters: &IntegrationParameters,
-        islands: &mut IslandManager,
-        broad_phase: &mut BroadPhaseBvh,
-        narrow_phase: &mut NarrowPhase,
-        bodies: &mut RigidBodySet,
-        colliders: &mut ColliderSet,
-        impulse_joints: &mut ImpulseJointSet,
-        multibody_joints: &mut MultibodyJointSet,
-        soft_bodies: &mut SoftBodySet,
-        ccd_solver: &mut CCDSolver,
+        mut sets: StepSets<'_>,
         hooks: &dyn PhysicsHooks,
         events: &dyn EventHandler,
     ) {
-        let prepared = self.before_step(
+        let prepared = self.before_step(gravity, integration_parameters, &mut sets);
+        sets.step_pipeline(
+            pipeline,
             gravity,
             integration_parameters,
-            islands,
-            broad_phase,
-            narrow_phase,
-            bodies,
-            colliders,
-        );
-        pipeline.step(
-            gravity,
-            integration_parameters,
-            islands,
-            broad_phase,
-            narrow_phase,
-            bodies,
-            colliders,
-            impulse_joints,
-            multibody_joints,
-            soft_bodies,
-            ccd_solver,
             &self.hooks(&prepared, hooks),
             events,
         );
-        self.after_step(
-            prepared,
-            narrow_phase,
-            broad_phase,
-            bodies,
-            colliders,
-            impulse_joints,
-            multibody_joints,
-            hooks,
-        );
+        self.after_step(prepared, &mut sets, hooks);
     }
 
     /// Stage 1 of a step, before `PhysicsPipeline::step`: sets kimpact's
@@ -433,17 +394,21 @@ impl Kimpact {
     /// [`PreparedStep`] that [`Kimpact::hooks`] and [`Kimpact::after_step`]
     /// take; preparing again before `after_step` starts the step over
     /// (finish it with the newest one).
-    #[allow(clippy::too_many_arguments)]
     pub fn before_step(
         &mut self,
         gravity: Vector,
         integration_parameters: &IntegrationParameters,
-        islands: &IslandManager,
-        broad_phase: &BroadPhaseBvh,
-        narrow_phase: &NarrowPhase,
-        bodies: &mut RigidBodySet,
-        colliders: &mut ColliderSet,
+        sets: &mut StepSets<'_>,
     ) -> PreparedStep {
+        let StepSets {
+            islands,
+            broad_phase,
+            narrow_phase,
+            bodies,
+            colliders,
+            ..
+        } = sets;
+        let (islands, broad_phase, narrow_phase) = (&**islands, &**broad_phase, &**narrow_phase);
         self.log.events.clear();
         self.log.stats.steps += 1;
         self.candidates.clear();
@@ -532,16 +497,10 @@ impl Kimpact {
     /// (`hooks`, or `&()`) given to [`Kimpact::hooks`]: they and the joints
     /// decide whether a pair kimpact's sweeps find may touch, as they do
     /// for rapier's narrow phase.
-    #[allow(clippy::too_many_arguments)]
     pub fn after_step(
         &mut self,
         prepared: PreparedStep,
-        narrow_phase: &NarrowPhase,
-        broad_phase: &BroadPhaseBvh,
-        bodies: &mut RigidBodySet,
-        colliders: &ColliderSet,
-        impulse_joints: &ImpulseJointSet,
-        multibody_joints: &MultibodyJointSet,
+        sets: &mut StepSets<'_>,
         hooks: &dyn PhysicsHooks,
     ) {
         let PreparedStep {
@@ -558,12 +517,12 @@ impl Kimpact {
         }
         self.candidates.collect();
         if policy.acts() {
-            let filter = PairFilter::new(impulse_joints, multibody_joints, hooks);
+            let filter = PairFilter::new(sets.impulse_joints, sets.multibody_joints, hooks);
             let sets = ReplaySets {
-                bodies,
-                colliders,
-                narrow_phase,
-                broad_phase,
+                bodies: sets.bodies,
+                colliders: sets.colliders,
+                narrow_phase: sets.narrow_phase,
+                broad_phase: sets.broad_phase,
             };
             self.replay_step(frame, policy, &prepared, sets, filter);
         }

@@ -36,7 +36,6 @@ pub fn cube<const D: usize>(side: f64) -> BoxBounds<D> {
 /// `n` balls on a jittered cubic lattice filling `bounds`, radii in
 /// `[r_min, r_max]`, masses in `[m_min, m_max]`, velocity components
 /// uniform in `[-v, v]`. Panics if the lattice is too tight.
-#[allow(clippy::too_many_arguments)]
 pub fn lattice_gas<const D: usize>(
     seed: u64,
     n: usize,
