@@ -42,13 +42,12 @@ mod queue;
 mod resolve;
 mod toi;
 
-use std::collections::{HashMap, HashSet};
-
 use kimpact::Law;
 
 use crate::body_view::Starts;
 use crate::config::ResolverConfig;
 use crate::frame::StepFrame;
+use crate::handle_map::HandleMap;
 use crate::marks::Marks;
 use crate::math::{Pose, Real, Vector};
 use crate::pair_filter::PairFilter;
@@ -175,7 +174,9 @@ pub(crate) struct RigidReplay {
     /// Start poses of the moving rigid bodies, sorted by handle.
     starts: Vec<(RigidBodyHandle, Pose)>,
     nodes: Vec<Node>,
-    node_of: HashMap<Key, usize>,
+    /// The node of each body in the run, and of each collider without one.
+    body_nodes: HandleMap<RigidBodyHandle, usize>,
+    collider_nodes: HandleMap<ColliderHandle, usize>,
     pairs: Vec<Pair>,
     /// Per node: the indices of its pairs.
     pairs_of: Vec<Vec<usize>>,
@@ -184,7 +185,6 @@ pub(crate) struct RigidReplay {
     queue: Queue,
     /// Scratch of `resolve`: the pairs whose times an impact changes.
     stale: Vec<usize>,
-    paired: HashSet<(ColliderHandle, ColliderHandle)>,
     manifolds: Vec<ContactManifold<(), ()>>,
     /// Scratch of the sweeps.
     met: Vec<ColliderHandle>,
@@ -248,9 +248,9 @@ impl RigidReplay {
         } = sets;
         self.claims.collect();
         self.nodes.clear();
-        self.node_of.clear();
+        self.body_nodes.clear();
+        self.collider_nodes.clear();
         self.pairs.clear();
-        self.paired.clear();
         self.queue.clear();
         for pairs in &mut self.pairs_of {
             pairs.clear();

@@ -36,13 +36,13 @@ impl RigidReplay {
         ch: ColliderHandle,
     ) -> Option<usize> {
         let co = colliders.get(ch)?;
+        if let Some(n) = self.node_of(co, ch) {
+            return Some(n);
+        }
         let key = match co.parent() {
             Some(h) => Key::Body(h),
             None => Key::Collider(ch),
         };
-        if let Some(&n) = self.node_of.get(&key) {
-            return Some(n);
-        }
         let node = match key {
             Key::Collider(_) => Node {
                 key,
@@ -65,8 +65,20 @@ impl RigidReplay {
         if self.pairs_of.len() <= n {
             self.pairs_of.push(Vec::new());
         }
-        self.node_of.insert(key, n);
+        match key {
+            Key::Body(h) => self.body_nodes.insert(h, n),
+            Key::Collider(ch) => self.collider_nodes.insert(ch, n),
+        }
         Some(n)
+    }
+
+    /// The node collider `ch` (`co`) rides, if the run has made it.
+    fn node_of(&self, co: &Collider, ch: ColliderHandle) -> Option<usize> {
+        match co.parent() {
+            Some(h) => self.body_nodes.get(h),
+            None => self.collider_nodes.get(ch),
+        }
+        .copied()
     }
 
     /// The node of body `h` (`rb`): its motion over the step from its
@@ -122,25 +134,31 @@ impl RigidReplay {
         c1: ColliderHandle,
         c2: ColliderHandle,
     ) -> Option<usize> {
-        let key = if c1.into_raw_parts() <= c2.into_raw_parts() {
-            (c1, c2)
-        } else {
-            (c2, c1)
-        };
-        if c1 == c2 || self.paired.contains(&key) {
+        if c1 == c2 {
             return None;
         }
         let a = self.node(input, bodies, colliders, c1)?;
         let b = self.node(input, bodies, colliders, c2)?;
-        if a == b {
+        if a == b || self.paired(a, b, c1, c2) {
             return None;
         }
-        self.paired.insert(key);
         let i = self.pairs.len();
         self.pairs.push(Pair { a, b, c1, c2 });
         self.pairs_of[a].push(i);
         self.pairs_of[b].push(i);
         Some(i)
+    }
+
+    /// Whether colliders `c1` (on node `a`) and `c2` (on node `b`) are a
+    /// pair of the replay already: read from the shorter of the two nodes'
+    /// lists (a domino's few pairs, not those of the floor under it).
+    fn paired(&self, a: usize, b: usize, c1: ColliderHandle, c2: ColliderHandle) -> bool {
+        let (of_a, of_b) = (&self.pairs_of[a], &self.pairs_of[b]);
+        let shorter = if of_a.len() <= of_b.len() { of_a } else { of_b };
+        shorter.iter().any(|&i| {
+            let p = &self.pairs[i];
+            (p.c1 == c1 && p.c2 == c2) || (p.c1 == c2 && p.c2 == c1)
+        })
     }
 
     /// Collider `ch` on node `n` riding the node's path.
@@ -315,7 +333,11 @@ impl RigidReplay {
             let Some(oc) = colliders.get(other) else {
                 continue;
             };
+            // A pair the run holds already (or a collider of the same
+            // body) adds nothing.
+            let known = |m: usize| m == n || self.paired(n, m, ch, other);
             if other == ch
+                || self.node_of(oc, other).is_some_and(known)
                 || !input
                     .marks
                     .governs_rigid(fixed, colliders, bodies, ch, other)
