@@ -14,7 +14,7 @@ use crate::math::{Real, Vector};
 use crate::policy::{Policy, Response};
 use crate::prepare::{Prepare, Touches};
 use crate::rapier::prelude::*;
-use crate::rigid_replay::Claims;
+use crate::rigid_replay::{Claim, Claims};
 use crate::rigid_view::point_velocity;
 
 /// The [`PhysicsHooks`] of one step, from [`crate::Kimpact::hooks`]: pass it
@@ -121,10 +121,19 @@ impl StepHooks<'_> {
             .governs_rigid(partners, colliders, bodies, c1, c2)
         {
             // Impulse and exact mode: an impact is the rigid replay's.
-            let replayed =
-                self.policy.replays_rigid() && self.claims.claim(context, self.frame.rest_speed);
-            if !replayed {
-                self.respond_rigid(context);
+            let claim = if self.policy.replays_rigid() {
+                self.claims.claim(context, self.frame.rest_speed)
+            } else {
+                Claim::Solver
+            };
+            match claim {
+                Claim::Claimed => {}
+                Claim::Resting => {
+                    if let Some(rigid) = context.rigid_mut() {
+                        *rigid.restitution = 0.0;
+                    }
+                }
+                Claim::Solver => self.respond_rigid(context),
             }
         }
     }

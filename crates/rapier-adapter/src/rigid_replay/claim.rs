@@ -7,7 +7,22 @@ use std::sync::Mutex;
 use crate::body_view::law_body;
 use crate::math::{Real, Vector};
 use crate::rapier::prelude::*;
-use crate::rigid_view::point_velocity;
+
+/// Below this share of the rest speed a closing centroid is resting for
+/// certain: far beyond the rounding by which the hook's rigid path, which
+/// measures the approach by the law's arithmetic, may differ.
+const RESTING_SHARE: Real = 0.999;
+
+/// What [`Claims::claim`] made of a pair.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub(crate) enum Claim {
+    /// The rigid replay's: its solver contacts are cleared.
+    Claimed,
+    /// Not an impact: rapier's solver keeps it, with no bounce.
+    Resting,
+    /// For the hook's rigid path to decide (rapier's solver keeps it).
+    Solver,
+}
 
 /// The pairs the hook handed to the rigid replay this step.
 #[derive(Debug, Default)]
@@ -27,23 +42,35 @@ impl Claims {
     /// sliding on a floor: rapier's solver keeps those, as the hook's
     /// rigid path bounces them). A claimed pair's solver contacts are
     /// cleared: rapier's solver leaves it alone and the replay resolves it
-    /// after the step. Whether the pair was claimed (if not, the caller
-    /// hands it to the hook's rigid path).
-    pub(crate) fn claim(&self, context: &mut ContactModificationContext, rest_speed: Real) -> bool {
+    /// after the step. A pair not claimed is either resting (no contact
+    /// closes, or their centroid closes clearly slower than `rest_speed`:
+    /// the hook's rigid path would not bounce it, and its caller gives it
+    /// no bounce without asking) or the hook's rigid path's.
+    pub(crate) fn claim(
+        &self,
+        context: &mut ContactModificationContext,
+        rest_speed: Real,
+    ) -> Claim {
         let (bodies, rb1, rb2) = (context.bodies, context.rigid_body1, context.rigid_body2);
         let (c1, c2) = (context.collider1, context.collider2);
         // A body with some translations locked, or non-finite data: the
         // hook's rigid path decides (and guards).
         let finite = |rb| law_body(bodies, rb).is_some_and(|b| b.is_finite());
         if !(finite(rb1) && finite(rb2)) {
-            return false;
+            return Claim::Solver;
         }
         let Some(rigid) = context.rigid_mut() else {
-            return false;
+            return Claim::Solver;
         };
         let n = *rigid.normal;
-        let relative =
-            |point: Vector| point_velocity(bodies, rb2, point) - point_velocity(bodies, rb1, point);
+        let (body1, body2) = (
+            rb1.and_then(|h| bodies.get(h)),
+            rb2.and_then(|h| bodies.get(h)),
+        );
+        let velocity = |rb: Option<&RigidBody>, point| {
+            rb.map_or(Vector::ZERO, |rb| rb.velocity_at_point(point))
+        };
+        let relative = |point: Vector| velocity(body2, point) - velocity(body1, point);
         let (mut sum, mut count) = (Vector::ZERO, 0usize);
         for c in rigid.solver_contacts.iter() {
             let point = (c.anchor1 + c.anchor2) * 0.5;
@@ -51,20 +78,26 @@ impl Claims {
                 sum += point;
                 count += 1;
             } else if c.dist <= 0.0 {
-                return false;
+                return Claim::Solver;
             }
         }
         if count == 0 {
-            return false;
+            return Claim::Resting;
         }
         let approach = -relative(sum / count as Real).dot(n);
         if !(approach > rest_speed && approach.is_finite()) {
-            return false;
+            // The rigid path measures the approach again by the law's own
+            // arithmetic: near the rest speed, it decides.
+            return if approach <= RESTING_SHARE * rest_speed {
+                Claim::Resting
+            } else {
+                Claim::Solver
+            };
         }
         rigid.solver_contacts.clear();
         let mut list = self.list.lock().unwrap_or_else(|e| e.into_inner());
         list.push((c1, c2));
-        true
+        Claim::Claimed
     }
 
     /// Move the hook's list into the sorted list, without duplicates, in

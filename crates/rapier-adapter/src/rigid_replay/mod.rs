@@ -58,7 +58,7 @@ use crate::rapier::prelude::*;
 use crate::replay::{ReplayOutput, ReplaySets};
 use crate::rigid_view::LawRigid;
 
-pub(crate) use claim::Claims;
+pub(crate) use claim::{Claim, Claims};
 use motion::Motion;
 use queue::Queue;
 

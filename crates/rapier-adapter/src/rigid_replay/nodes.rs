@@ -10,7 +10,7 @@ use crate::rapier::prelude::*;
 use crate::rigid_view::inverse_inertia;
 
 use super::motion::Motion;
-use super::toi::{Mover, time_of_impact};
+use super::toi::{Mover, apart_for_narrow_phase, time_of_impact};
 use super::{Key, Node, Pair, RigidInput, RigidReplay, World, toi_share};
 
 /// Where a sweep along a body's path starts.
@@ -280,6 +280,54 @@ impl RigidReplay {
         }
     }
 
+    /// Whether the start sweep of node `n` can leave out contact pair `cp`
+    /// of one of its colliders: rapier's narrow phase found no contact
+    /// within its prediction distance at the step's start, and the two
+    /// cannot close that far within the step (see
+    /// [`apart_for_narrow_phase`]): the pair's time of impact would be
+    /// none. A box whose broad-phase box overlaps a leaning domino's, or a
+    /// resting neighbour's, costs no search.
+    fn stays_apart(
+        &mut self,
+        input: &RigidInput,
+        world: World,
+        cp: &ContactPair,
+        (n, ch): (usize, ColliderHandle),
+    ) -> bool {
+        if cp.manifolds().iter().any(|m| !m.points.is_empty()) {
+            return false;
+        }
+        let colliders = world.colliders;
+        let other = if cp.collider1 == ch {
+            cp.collider2
+        } else {
+            cp.collider1
+        };
+        let Some(m) = self.node(input, world.bodies, colliders, other) else {
+            return false;
+        };
+        let (Some(a), Some(b)) = (
+            self.mover(colliders, n, ch),
+            self.mover(colliders, m, other),
+        ) else {
+            return false;
+        };
+        let radius = |co: Option<&Collider>| {
+            co.map_or(Real::INFINITY, |co| {
+                co.shape().compute_local_bounding_sphere().radius()
+            })
+        };
+        let tolerance = toi_share() * radius(colliders.get(ch)).min(radius(colliders.get(other)));
+        apart_for_narrow_phase(
+            &a,
+            &b,
+            0.0,
+            input.frame.dt,
+            tolerance,
+            input.frame.prediction,
+        )
+    }
+
     /// Sweep collider `ch` of node `n` along its path from `when` to the
     /// step's end: every collider whose broad-phase box meets the swept box
     /// and that the law governs as a rigid pair with it (and rapier would
@@ -336,21 +384,22 @@ impl RigidReplay {
             // A pair the run holds already (or a collider of the same
             // body) adds nothing.
             let known = |m: usize| m == n || self.paired(n, m, ch, other);
-            if other == ch
-                || self.node_of(oc, other).is_some_and(known)
+            if other == ch || self.node_of(oc, other).is_some_and(known) {
+                continue;
+            }
+            // Before any impact, a pair rapier's solver touches is rapier's
+            // (the most common: a resting neighbour, the floor).
+            let contact = (!all)
+                .then(|| narrow_phase.contact_pair(ch, other))
+                .flatten();
+            if contact.is_some_and(|cp| cp.has_any_active_contact())
                 || !input
                     .marks
                     .governs_rigid(fixed, colliders, bodies, ch, other)
                 || !input
                     .filter
                     .admits(bodies, colliders, [(ch, co), (other, oc)], true)
-            {
-                continue;
-            }
-            if !all
-                && narrow_phase
-                    .contact_pair(ch, other)
-                    .is_some_and(|cp| cp.has_any_active_contact())
+                || contact.is_some_and(|cp| self.stays_apart(input, world, cp, (n, ch)))
             {
                 continue;
             }

@@ -243,6 +243,24 @@ fn at_start(a: &Mover, b: &Mover, from: Real, to: Real, tolerance: Real) -> AtSt
     }
 }
 
+/// Whether `a` and `b`, which rapier's narrow phase saw farther apart than
+/// its prediction distance `prediction` at `from` (a contact pair without
+/// contacts), stay apart until `to`: two convex shapes whose closing bound
+/// over the interval, with the tolerance on both sides, is below
+/// `prediction`. Then [`time_of_impact`] from `from` answers `None` (its
+/// start test finds them beyond reach), without its distance query.
+pub(crate) fn apart_for_narrow_phase(
+    a: &Mover,
+    b: &Mover,
+    from: Real,
+    to: Real,
+    tolerance: Real,
+    prediction: Real,
+) -> bool {
+    let convex = a.shape.as_support_map().is_some() && b.shape.as_support_map().is_some();
+    convex && closing_bound(a, b) * (to - from) + 2.0 * tolerance < prediction
+}
+
 /// What `a` and `b` close by at most per unit of time: their relative
 /// speed plus how fast each one's turning moves its surface.
 fn closing_bound(a: &Mover, b: &Mover) -> Real {
