@@ -1,11 +1,13 @@
 //! How the law sees a rapier body: its mass (finite, or infinite for fixed
 //! and kinematic bodies) and its velocity, the straight path rapier
-//! integrates it along, and where it started the step.
+//! integrates it along, where it started the step, and how fast its
+//! surface turns.
 
 use kimpact::{Body, LawError, Mass};
 
 use crate::handle_map::HandleMap;
 use crate::math::{DIM, Real, Vector, to_law};
+use crate::rapier::math::AngVector;
 use crate::rapier::prelude::*;
 
 /// How a body takes part in the law.
@@ -174,4 +176,46 @@ impl Starts {
     pub(crate) fn of(&self, handle: RigidBodyHandle) -> Option<Vector> {
         self.translations.get(handle).copied()
     }
+}
+
+/// Whether a point of body `rb`'s colliders `counted`, turning with it,
+/// may move faster than `threshold`: the speed of its centre plus its
+/// angular speed times how far those colliders reach from its centre of
+/// mass (their bounding spheres, in the body's frame). Never for a body
+/// without such a collider.
+pub(crate) fn turns_fast(
+    rb: &RigidBody,
+    colliders: &ColliderSet,
+    threshold: Real,
+    counted: impl Fn(ColliderHandle) -> bool,
+) -> bool {
+    let spin = spin_speed(rb.angvel());
+    if spin.is_nan() || spin <= 0.0 {
+        return false;
+    }
+    let com = rb.local_center_of_mass();
+    let mut reach: Real = 0.0;
+    for &ch in rb.colliders() {
+        if !counted(ch) {
+            continue;
+        }
+        if let Some(co) = colliders.get(ch) {
+            let sphere = co.shape().compute_local_bounding_sphere();
+            let offset = co.position_wrt_parent().copied().unwrap_or_default();
+            reach = reach.max((offset * sphere.center() - com).length() + sphere.radius());
+        }
+    }
+    reach > 0.0 && rb.linvel().length() + spin * reach > threshold
+}
+
+/// `|ω|`.
+#[cfg(feature = "dim2")]
+fn spin_speed(w: AngVector) -> Real {
+    w.abs()
+}
+
+/// `|ω|`.
+#[cfg(feature = "dim3")]
+fn spin_speed(w: AngVector) -> Real {
+    w.length()
 }

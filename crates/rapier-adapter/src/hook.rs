@@ -12,10 +12,12 @@ use crate::frame::StepFrame;
 use crate::marks::Marks;
 use crate::math::{Real, Vector};
 use crate::policy::{Policy, Response};
-use crate::prepare::{Prepare, Touches};
+use crate::prepare::Prepare;
+use crate::rapier::math::AngVector;
 use crate::rapier::prelude::*;
 use crate::rigid_replay::{Claim, Claims};
 use crate::rigid_view::point_velocity;
+use crate::touches::Touches;
 
 /// The [`PhysicsHooks`] of one step, from [`crate::Kimpact::hooks`]: pass it
 /// to `PhysicsPipeline::step` between [`crate::Kimpact::before_step`] and
@@ -152,6 +154,13 @@ impl StepHooks<'_> {
             return;
         };
         let seen = Seen::of(rigid);
+        // A kinematic partner meets the ball at the velocity of its
+        // material point there (a turning flipper).
+        let bodies = context.bodies;
+        let (b1, b2) = (
+            kinematic_at(bodies, context.rigid_body1, b1, seen.point),
+            kinematic_at(bodies, context.rigid_body2, b2, seen.point),
+        );
         let approach = -(b2.velocity - b1.velocity).dot(seen.normal);
         // The pair's contact reaches this far within the step.
         let reach = (approach + frame.gravity_speed) * frame.dt;
@@ -166,13 +175,20 @@ impl StepHooks<'_> {
             applied_by,
             rigid: None,
         };
-        let by_replay = match self.policy.response {
-            Response::Replay => true,
-            // Those of a body too fast for rapier's contacts (swept by the
-            // replay after the step).
-            _ => self.prepare.is_swept(pair.c1) || self.prepare.is_swept(pair.c2),
-        };
-        if !by_replay && self.is_graze(context, &pair, &seen, (approach, reach)) {
+        // The point replay and the graze test move bodies on straight
+        // paths: a pair with a turning kinematic body (a flipper) is
+        // bounced by rapier's solver with the law's restitution, in every
+        // mode.
+        let turning =
+            is_turning_kinematic(bodies, pair.rb1) || is_turning_kinematic(bodies, pair.rb2);
+        let by_replay = !turning
+            && match self.policy.response {
+                Response::Replay => true,
+                // Those of a body too fast for rapier's contacts (swept by
+                // the replay after the step).
+                _ => self.prepare.is_swept(pair.c1) || self.prepare.is_swept(pair.c2),
+            };
+        if !by_replay && !turning && self.is_graze(context, &pair, &seen, (approach, reach)) {
             if let Some(rigid) = context.rigid_mut() {
                 rigid.solver_contacts.clear();
             }
@@ -398,6 +414,31 @@ impl StepHooks<'_> {
         // Anything but a clear "no" (an unsupported shape pair) is a meeting.
         crate::cast::cast(a, b, window, InContact::Meets) != CastOutcome::Miss
     }
+}
+
+/// `b`, the law's view of body `parent`, with the velocity of its material
+/// point at `point` if it is kinematic (its centre's otherwise): what a
+/// ball meets on a turning kinematic body.
+fn kinematic_at(
+    bodies: &RigidBodySet,
+    parent: Option<RigidBodyHandle>,
+    b: LawBody,
+    point: Vector,
+) -> LawBody {
+    match parent.and_then(|h| bodies.get(h)) {
+        Some(rb) if rb.is_kinematic() => LawBody {
+            velocity: rb.velocity_at_point(point),
+            ..b
+        },
+        _ => b,
+    }
+}
+
+/// Whether body `parent` is kinematic and turning.
+fn is_turning_kinematic(bodies: &RigidBodySet, parent: Option<RigidBodyHandle>) -> bool {
+    parent
+        .and_then(|h| bodies.get(h))
+        .is_some_and(|rb| rb.is_kinematic() && rb.angvel() != AngVector::default())
 }
 
 /// The solver contacts of a manifold whose material points close.

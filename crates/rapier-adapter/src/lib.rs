@@ -87,6 +87,7 @@ mod step_sets;
 mod sweep_grid;
 #[cfg(test)]
 mod test_rng;
+mod touches;
 
 pub use config::{ResolverConfig, ResolverConfigError};
 pub use events::{ImpactEvent, Stats};

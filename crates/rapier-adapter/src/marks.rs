@@ -91,6 +91,11 @@ impl Marks {
         self.marked.iter().count()
     }
 
+    /// Whether any marked collider is not a point collider.
+    pub(crate) fn has_extended(&self) -> bool {
+        self.extended > 0
+    }
+
     /// Whether marked collider `handle` is not a point collider.
     pub(crate) fn is_extended(&self, handle: ColliderHandle) -> bool {
         self.extended > 0 && self.marked.get(handle).is_some_and(|m| m.extended)

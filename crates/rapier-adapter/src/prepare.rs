@@ -12,9 +12,7 @@
 //! sleep timer must restart) is learnt while flagging it, in the one pass
 //! over the awake bodies: no second walk over the flagged colliders.
 
-use std::sync::atomic::{AtomicU32, Ordering};
-
-use crate::body_view::{SWEPT_SHARE, Starts, half_size, path_velocity};
+use crate::body_view::{SWEPT_SHARE, Starts, half_size, path_velocity, turns_fast};
 use crate::calm::{Calm, CalmSchedule, Frame};
 use crate::frame::StepFrame;
 use crate::handle_map::HandleMap;
@@ -24,6 +22,7 @@ use crate::math::Real;
 use crate::math::Vector;
 use crate::policy::Policy;
 use crate::rapier::prelude::*;
+use crate::touches::Touches;
 
 /// What [`Prepare::run`] reads of the step.
 #[derive(Copy, Clone)]
@@ -72,6 +71,33 @@ impl<'a> FlagStep<'a> {
     }
 }
 
+impl FlagStep<'_> {
+    /// Whether body `rb` may start an impact this step: its centre moves
+    /// faster than the threshold, or, turning, a point of one of its
+    /// extended marked colliders does (of any of its colliders, for a
+    /// kinematic body: a flipper).
+    fn is_fast(&self, rb: &RigidBody, colliders: &ColliderSet) -> bool {
+        let threshold = self.threshold;
+        rb.linvel().length_squared() > threshold * threshold || self.spins_fast(rb, colliders)
+    }
+
+    /// The turning part of [`FlagStep::is_fast`] (see [`turns_fast`]): of
+    /// the extended marked colliders, or of every collider of a kinematic
+    /// body. Never for a body with no extended marked collider (a ball
+    /// centred on its body spins without moving its surface towards
+    /// anything).
+    fn spins_fast(&self, rb: &RigidBody, colliders: &ColliderSet) -> bool {
+        let kinematic = rb.is_kinematic();
+        if !kinematic && !self.marks.has_extended() {
+            return false;
+        }
+        let marks = self.marks;
+        turns_fast(rb, colliders, self.threshold, |ch| {
+            kinematic || marks.is_extended(ch)
+        })
+    }
+}
+
 /// What [`Prepare`] carries from one step to the next (the rest of its
 /// state is the scratch of one step): the hook flags it set in rapier's
 /// collider set, the bodies the next step must look at beyond rapier's
@@ -104,37 +130,6 @@ pub(crate) struct Carried {
 pub(crate) struct Joining {
     pub marked: Vec<ColliderHandle>,
     pub woken: Vec<RigidBodyHandle>,
-}
-
-/// The hook's record of which flagged colliders it left with solver
-/// contacts, and at which step (see [`Touches::touch`]): written by the
-/// hook during rapier's step, read by the next step's prepare pass
-/// ([`Prepare::is_crowded`]).
-#[derive(Default)]
-pub(crate) struct Touches {
-    /// Per collider: the step (`epoch`) at which kimpact's hook left one of
-    /// its pairs with solver contacts, made by the prepare pass for the
-    /// colliders it flags.
-    at: HandleMap<ColliderHandle, AtomicU32>,
-}
-
-impl Touches {
-    /// Called by kimpact's hook, at step `epoch`, for each collider of a
-    /// pair it leaves with solver contacts (rapier's
-    /// `ContactPair::has_any_active_contact`). Lock-free, so that the hook
-    /// stays `Sync`.
-    pub(crate) fn touch(&self, ch: ColliderHandle, epoch: u32) {
-        if let Some(t) = self.at.get(ch) {
-            t.store(epoch, Ordering::Relaxed);
-        }
-    }
-
-    /// Whether the hook touched `ch` at step `epoch`.
-    fn touched_at(&self, ch: ColliderHandle, epoch: u32) -> bool {
-        self.at
-            .get(ch)
-            .is_some_and(|t| t.load(Ordering::Relaxed) == epoch)
-    }
 }
 
 /// What the prepare pass produced for one step: which colliders it
@@ -486,13 +481,13 @@ impl Pass<'_, '_> {
         bodies: &RigidBodySet,
         colliders: &mut ColliderSet,
     ) -> usize {
-        let threshold = self.step.threshold;
+        let step = self.step;
         let mut fast = 0;
         for handle in islands.active_bodies() {
             let Some(rb) = bodies.get(handle) else {
                 continue;
             };
-            if rb.linvel().length_squared() > threshold * threshold {
+            if step.is_fast(rb, colliders) {
                 fast += usize::from(rb.is_dynamic());
                 self.prepare_rb(handle, rb, colliders);
             } else {
@@ -517,16 +512,17 @@ impl Pass<'_, '_> {
         scratch: &mut Scratch,
     ) -> usize {
         use rayon::prelude::*;
-        let threshold = self.step.threshold;
+        let step = self.step;
         let Scratch { active, scans, .. } = scratch;
         active.clear();
         active.extend(islands.active_bodies());
+        let read: &ColliderSet = colliders;
         active
             .par_iter()
             .with_min_len(SCAN_RUN)
             .map(|&handle| match bodies.get(handle) {
                 None => Scan::Gone,
-                Some(rb) if rb.linvel().length_squared() > threshold * threshold => Scan::Fast,
+                Some(rb) if step.is_fast(rb, read) => Scan::Fast,
                 Some(rb) => Scan::Slow(rb.translation()),
             })
             .collect_into_vec(scans);
@@ -561,11 +557,12 @@ impl Pass<'_, '_> {
 
     /// [`Pass::prepare_body`] with the body at hand.
     fn prepare_rb(&mut self, handle: RigidBodyHandle, rb: &RigidBody, colliders: &mut ColliderSet) {
-        let threshold = self.step.threshold;
+        let step = self.step;
         if !rb.is_dynamic() {
-            // A kinematic body faster than the threshold may strike a
-            // marked body at rest, which is not flagged.
-            if rb.is_kinematic() && rb.linvel().length_squared() > threshold * threshold {
+            // A kinematic body faster than the threshold (moving or
+            // turning) may strike a marked body at rest, which is not
+            // flagged.
+            if rb.is_kinematic() && step.is_fast(rb, colliders) {
                 self.flag(handle, rb, colliders);
             }
             return;
@@ -573,7 +570,7 @@ impl Pass<'_, '_> {
         if rb.is_sleeping() {
             return;
         }
-        let any_marked = if rb.linvel().length_squared() > threshold * threshold {
+        let any_marked = if step.is_fast(rb, colliders) {
             self.flag(handle, rb, colliders)
         } else {
             rb.colliders()
@@ -611,7 +608,7 @@ impl Pass<'_, '_> {
             fixed_partners,
             ..
         } = *input;
-        let threshold = self.step.threshold;
+        let step = self.step;
         calm.begin();
         let judged = {
             let frame = Frame {
@@ -628,22 +625,30 @@ impl Pass<'_, '_> {
                 let Some(rb) = bodies.get(handle) else {
                     continue;
                 };
-                let is_fast = rb.linvel().length_squared() > threshold * threshold;
+                let is_fast = step.is_fast(rb, frame.colliders);
                 self.out.starts.store(handle, rb.translation());
                 calm.take(&frame, handle, rb, is_fast);
             }
             calm.judge(&frame, rest_speed)
         };
+        // The calm test compares the bodies' linear velocities: a body
+        // fast by its turning is never calm.
+        let mut turning = 0u64;
         for t in calm.taken() {
-            if t.fast
-                && !t.calm
-                && let Some(rb) = bodies.get(t.handle)
-            {
+            if !t.fast {
+                continue;
+            }
+            let Some(rb) = bodies.get(t.handle) else {
+                continue;
+            };
+            let turns = t.calm && step.spins_fast(rb, colliders);
+            if !t.calm || turns {
+                turning += u64::from(turns);
                 self.flag(t.handle, rb, colliders);
             }
         }
         calm.settle(&judged);
-        self.out.calm_bodies = judged.calm as u64;
+        self.out.calm_bodies = (judged.calm as u64).saturating_sub(turning);
         judged.fast
     }
 
@@ -713,7 +718,7 @@ impl Pass<'_, '_> {
                 self.out.flagged.push(ch);
             }
             flagged = true;
-            self.touches.at.get_or_insert_with(ch, || AtomicU32::new(0));
+            self.touches.add(ch);
             if step.notes_fast_bodies {
                 // The replay moves bodies as points: an extended collider is
                 // never swept.

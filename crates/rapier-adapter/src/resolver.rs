@@ -16,13 +16,14 @@ use crate::math::{Real, Vector, to_law};
 use crate::mode::Mode;
 use crate::pair_filter::PairFilter;
 use crate::policy::{Policy, Response};
-use crate::prepare::{Joining, Prepare, PrepareInput, Prepared, Touches};
+use crate::prepare::{Joining, Prepare, PrepareInput, Prepared};
 use crate::rapier::prelude::*;
 use crate::replay::{Replay, ReplayInput, ReplayOutput, ReplaySets};
 use crate::rigid_replay::{RigidInput, RigidReplay};
 use crate::shared_frame::free_fall_velocity;
 use crate::snapshot::{Saving, Snapshot, SnapshotError};
 use crate::step_sets::StepSets;
+use crate::touches::Touches;
 
 /// A collider handle that is not in the collider set it was checked
 /// against.

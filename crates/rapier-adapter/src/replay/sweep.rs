@@ -172,6 +172,9 @@ impl Replay {
         // In collider order (as the bulk sweep takes them), not the tree's.
         let mut met = std::mem::take(&mut self.met);
         met.clear();
+        // Room for every collider once, so that a sweep meeting more than
+        // any before does not allocate in a steady state.
+        met.reserve(run.colliders.len());
         if !self.per_body_sweep && self.leaves.wanted(query.bvh) {
             self.leaves.overlaps(&swept, &mut met);
         } else {
