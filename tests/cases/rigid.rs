@@ -35,12 +35,7 @@ fn drop_bar(mode: Mode, length: Real, half: Real, angle: Real, speed: Real, wall
         .linvel(Vector::Y * -speed)
         .can_sleep(false);
     let b = w.marked_cuboid(body, he, 2.0);
-    let energy = |w: &TestWorld| {
-        let rb = &w.world.bodies[b];
-        let spin = angular_z(rb);
-        0.5 * f64::from(rb.mass()) * f64::from(rb.linvel().length_squared())
-            + 0.5 * inertia_z(rb) * spin * spin
-    };
+    let energy = |w: &TestWorld| kinetic_z(&w.world.bodies[b]);
     let before = energy(&w);
     for _ in 0..30 {
         w.step();
@@ -102,6 +97,37 @@ fn angular_z(rb: &RigidBody) -> f64 {
 /// The angular inertia about z (the bar turns about z only).
 fn inertia_z(rb: &RigidBody) -> f64 {
     rb.mass_properties().local_mprops.principal_inertia().z()
+}
+
+/// A rod's half-extents: `half_length` along x (3D: and z, a plate),
+/// `half` along y.
+fn rod(half_length: Real, half: Real) -> Vector {
+    let mut he = Vector::splat(half_length);
+    he[1] = half;
+    he
+}
+
+/// Step `w` until a step reports impacts (at most 60 steps): that step's
+/// events (none if none came); `apart` sees the world after each step
+/// before it.
+fn first_impacts(w: &mut TestWorld, mut apart: impl FnMut(&TestWorld)) -> Vec<k::ImpactEvent> {
+    for _ in 0..60 {
+        w.step();
+        let events = w.kimpact.events();
+        if !events.is_empty() {
+            return events.to_vec();
+        }
+        apart(w);
+    }
+    Vec::new()
+}
+
+/// The kinetic energy of a body turning about z only: translation and
+/// rotation.
+fn kinetic_z(rb: &RigidBody) -> f64 {
+    let spin = angular_z(rb);
+    0.5 * f64::from(rb.mass()) * f64::from(rb.linvel().length_squared())
+        + 0.5 * inertia_z(rb) * spin * spin
 }
 
 /// Issue 39.2: every law mode governs a marked bar (a cuboid on a dynamic
@@ -256,25 +282,10 @@ fn every_law_mode_bounces_a_rod_spinning_in_place() {
             .translation(Vector::Y * 0.9)
             .angvel(AboutZ::about_z(spin))
             .can_sleep(false);
-        let mut he = Vector::splat(half_length);
-        he[1] = half;
-        let b = w.marked_cuboid(body, he, 2.0);
-        let energy = |w: &TestWorld| {
-            let rb = &w.world.bodies[b];
-            let s = angular_z(rb);
-            0.5 * f64::from(rb.mass()) * f64::from(rb.linvel().length_squared())
-                + 0.5 * inertia_z(rb) * s * s
-        };
+        let b = w.marked_cuboid(body, rod(half_length, half), 2.0);
+        let energy = |w: &TestWorld| kinetic_z(&w.world.bodies[b]);
         let mut before = energy(&w);
-        let mut events = Vec::new();
-        for _ in 0..60 {
-            w.step();
-            events.extend(w.kimpact.events().iter().cloned());
-            if !events.is_empty() {
-                break;
-            }
-            before = energy(&w);
-        }
+        let events = first_impacts(&mut w, |w| before = energy(w));
         assert_eq!(events.len(), 1, "{mode}: {events:?}");
         assert!(!events[0].by_solver || mode == Mode::Restitution, "{mode}: {events:?}");
         let after = energy(&w);
@@ -303,20 +314,13 @@ fn every_law_mode_bounces_a_ball_off_a_turning_kinematic_rod() {
     for mode in LAW_MODES {
         let mut w = TestWorld::with_wall_dissipation(mode, 0.0, Vector::ZERO);
         let body = RigidBodyBuilder::kinematic_velocity_based().angvel(AboutZ::about_z(spin));
-        let rod = w.world.insert_body(body);
-        let mut he = Vector::splat(half_length);
-        he[1] = half;
-        let collider = world::cuboid(he).friction(0.0).restitution(0.0);
-        w.world.insert_collider(collider, Some(rod));
+        let flipper = w.world.insert_body(body);
+        let collider = world::cuboid(rod(half_length, half))
+            .friction(0.0)
+            .restitution(0.0);
+        w.world.insert_collider(collider, Some(flipper));
         let (ball, _) = w.ball(Vector::X * 0.7 + Vector::Y * 0.3, Vector::ZERO, 0.1, 1.0);
-        let mut events = Vec::new();
-        for _ in 0..60 {
-            w.step();
-            events.extend(w.kimpact.events().iter().cloned());
-            if !events.is_empty() {
-                break;
-            }
-        }
+        let events = first_impacts(&mut w, |_| {});
         assert_eq!(events.len(), 1, "{mode}: {events:?}");
         let e = &events[0];
         assert!(e.by_solver, "{mode}: {e:?}");
