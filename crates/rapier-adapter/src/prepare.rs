@@ -489,7 +489,7 @@ impl Pass<'_, '_> {
             };
             if step.is_fast(rb, colliders) {
                 fast += usize::from(rb.is_dynamic());
-                self.prepare_rb(handle, rb, colliders);
+                self.prepare_rb(handle, rb, true, colliders);
             } else {
                 self.out.starts.store(handle, rb.translation());
             }
@@ -534,7 +534,7 @@ impl Pass<'_, '_> {
                 Scan::Fast => {
                     if let Some(rb) = bodies.get(handle) {
                         fast += usize::from(rb.is_dynamic());
-                        self.prepare_rb(handle, rb, colliders);
+                        self.prepare_rb(handle, rb, true, colliders);
                     }
                 }
             }
@@ -551,18 +551,25 @@ impl Pass<'_, '_> {
         colliders: &mut ColliderSet,
     ) {
         if let Some(rb) = bodies.get(handle) {
-            self.prepare_rb(handle, rb, colliders);
+            let fast = self.step.is_fast(rb, colliders);
+            self.prepare_rb(handle, rb, fast, colliders);
         }
     }
 
-    /// [`Pass::prepare_body`] with the body at hand.
-    fn prepare_rb(&mut self, handle: RigidBodyHandle, rb: &RigidBody, colliders: &mut ColliderSet) {
-        let step = self.step;
+    /// [`Pass::prepare_body`] with the body at hand, judged `fast` or not
+    /// ([`FlagStep::is_fast`]).
+    fn prepare_rb(
+        &mut self,
+        handle: RigidBodyHandle,
+        rb: &RigidBody,
+        fast: bool,
+        colliders: &mut ColliderSet,
+    ) {
         if !rb.is_dynamic() {
             // A kinematic body faster than the threshold (moving or
             // turning) may strike a marked body at rest, which is not
             // flagged.
-            if rb.is_kinematic() && step.is_fast(rb, colliders) {
+            if rb.is_kinematic() && fast {
                 self.flag(handle, rb, colliders);
             }
             return;
@@ -570,7 +577,7 @@ impl Pass<'_, '_> {
         if rb.is_sleeping() {
             return;
         }
-        let any_marked = if step.is_fast(rb, colliders) {
+        let any_marked = if fast {
             self.flag(handle, rb, colliders)
         } else {
             rb.colliders()
