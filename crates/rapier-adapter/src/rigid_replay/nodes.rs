@@ -189,12 +189,7 @@ impl RigidReplay {
     /// smaller collider's bounding radius.
     pub(super) fn tolerance(&self, colliders: &ColliderSet, i: usize) -> Real {
         let p = &self.pairs[i];
-        let radius = |ch| {
-            colliders.get(ch).map_or(Real::INFINITY, |co: &Collider| {
-                co.shape().compute_local_bounding_sphere().radius()
-            })
-        };
-        toi_share() * radius(p.c1).min(radius(p.c2))
+        pair_tolerance(colliders, p.c1, p.c2)
     }
 
     /// Pair `i`'s first time of impact in `[from, to]` (rewound into the
@@ -312,12 +307,7 @@ impl RigidReplay {
         ) else {
             return false;
         };
-        let radius = |co: Option<&Collider>| {
-            co.map_or(Real::INFINITY, |co| {
-                co.shape().compute_local_bounding_sphere().radius()
-            })
-        };
-        let tolerance = toi_share() * radius(colliders.get(ch)).min(radius(colliders.get(other)));
+        let tolerance = pair_tolerance(colliders, ch, other);
         apart_for_narrow_phase(
             &a,
             &b,
@@ -412,4 +402,15 @@ impl RigidReplay {
         }
         self.met = met;
     }
+}
+
+/// The time-of-impact tolerance of colliders `c1` and `c2`: [`toi_share`]
+/// of the smaller one's bounding radius.
+fn pair_tolerance(colliders: &ColliderSet, c1: ColliderHandle, c2: ColliderHandle) -> Real {
+    let radius = |ch| {
+        colliders.get(ch).map_or(Real::INFINITY, |co: &Collider| {
+            co.shape().compute_local_bounding_sphere().radius()
+        })
+    };
+    toi_share() * radius(c1).min(radius(c2))
 }
