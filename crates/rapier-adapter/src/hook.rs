@@ -9,7 +9,7 @@ use crate::candidates::{Candidate, Candidates};
 use crate::cast::{CastOutcome, InContact, Moving};
 use crate::events::AppliedBy;
 use crate::frame::StepFrame;
-use crate::marks::Marks;
+use crate::marks::{Governed, Marks};
 use crate::math::{Real, Vector};
 use crate::policy::{Policy, Response};
 use crate::prepare::Prepare;
@@ -116,12 +116,10 @@ impl StepHooks<'_> {
         let (c1, c2) = (context.collider1, context.collider2);
         let (colliders, bodies) = (context.colliders, context.bodies);
         let partners = self.policy.partners;
-        if self.marks.governs(partners, colliders, bodies, c1, c2) {
+        let governed = self.marks.governance(partners, colliders, bodies, c1, c2);
+        if governed == Some(Governed::Points) {
             self.respond_point(context);
-        } else if self
-            .marks
-            .governs_rigid(partners, colliders, bodies, c1, c2)
-        {
+        } else if governed == Some(Governed::Rigid) {
             // Impulse and exact mode: an impact is the rigid replay's.
             let claim = if self.policy.replays_rigid() {
                 self.claims.claim(context, self.frame.rest_speed)

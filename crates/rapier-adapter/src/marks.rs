@@ -31,6 +31,15 @@ struct Mark {
     material: Option<Material>,
 }
 
+/// How the law governs a pair ([`Marks::governance`]).
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub(crate) enum Governed {
+    /// As points ([`Marks::governs`]).
+    Points,
+    /// As rigid bodies ([`Marks::governs_rigid`]).
+    Rigid,
+}
+
 /// Which partners of a marked collider the law governs besides marked
 /// ones ([`crate::ResolverConfig::fixed_partners`]).
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -188,6 +197,27 @@ impl Marks {
         c2: ColliderHandle,
     ) -> bool {
         self.turning(colliders, bodies, c1, c2) && self.pairs(partners, colliders, bodies, c1, c2)
+    }
+
+    /// How the law governs the pair, if it does: [`Marks::governs`] and
+    /// [`Marks::governs_rigid`] in one look at the marks (the contact
+    /// hook asks both of every pair it sees).
+    pub(crate) fn governance(
+        &self,
+        partners: Partners,
+        colliders: &ColliderSet,
+        bodies: &RigidBodySet,
+        c1: ColliderHandle,
+        c2: ColliderHandle,
+    ) -> Option<Governed> {
+        if !self.pairs(partners, colliders, bodies, c1, c2) {
+            return None;
+        }
+        Some(if self.turning(colliders, bodies, c1, c2) {
+            Governed::Rigid
+        } else {
+            Governed::Points
+        })
     }
 
     /// Whether a marked collider of the pair is extended on a dynamic body.
