@@ -355,16 +355,41 @@ impl RigidReplay {
         // times the turn.
         let turn = mover.motion.turn_speed(1.0) * (dt - t);
         swept = swept.loosened(mover.reach * turn.min(2.0) + input.frame.prediction);
-        let dispatcher = crate::rapier::parry::query::DefaultQueryDispatcher;
-        let query =
-            broad_phase.as_query_pipeline(&dispatcher, bodies, colliders, QueryFilter::default());
+        let near = !all && stays_near(&mover, co, (t, dt), input.frame.prediction);
         let mut met = std::mem::take(&mut self.met);
         met.clear();
-        met.extend(
-            query
-                .intersect_aabb_conservative(swept)
-                .map(|(other, _)| other),
-        );
+        if near {
+            // Rapier's broad phase paired it with every collider within its
+            // prediction distance: nothing else is within its reach. Those
+            // whose boxes meet the swept box, as the broad phase's query
+            // would give them.
+            let other = |cp: &ContactPair| {
+                if cp.collider1 == ch {
+                    cp.collider2
+                } else {
+                    cp.collider1
+                }
+            };
+            let meets = |oh: &ColliderHandle| {
+                colliders
+                    .get(*oh)
+                    .is_some_and(|oc| oc.compute_aabb().intersects(&swept))
+            };
+            met.extend(narrow_phase.contact_pairs_with(ch).map(other).filter(meets));
+        } else {
+            let dispatcher = crate::rapier::parry::query::DefaultQueryDispatcher;
+            let query = broad_phase.as_query_pipeline(
+                &dispatcher,
+                bodies,
+                colliders,
+                QueryFilter::default(),
+            );
+            met.extend(
+                query
+                    .intersect_aabb_conservative(swept)
+                    .map(|(other, _)| other),
+            );
+        }
         met.sort_unstable_by_key(|h| h.into_raw_parts());
         let fixed = input.policy.partners;
         for &other in &met {
@@ -402,6 +427,19 @@ impl RigidReplay {
         }
         self.met = met;
     }
+}
+
+/// Whether collider `co` riding `mover` moves less over `[t, dt]`, at its
+/// closing bound with the time-of-impact tolerance on both sides, than
+/// rapier's prediction distance `prediction`: then every collider it can
+/// reach by its own motion was within that distance at the step's start,
+/// and rapier's broad phase made a contact pair of it (the start sweep
+/// reads those instead of querying the broad phase). A partner's own
+/// motion is its own sweep's, as with the swept box.
+fn stays_near(mover: &Mover, co: &Collider, (t, dt): (Real, Real), prediction: Real) -> bool {
+    let tolerance = toi_share() * co.shape().compute_local_bounding_sphere().radius();
+    let moves = (mover.motion.linvel.length() + mover.motion.turn_speed(mover.reach)) * (dt - t);
+    moves + 2.0 * tolerance < prediction
 }
 
 /// The time-of-impact tolerance of colliders `c1` and `c2`: [`toi_share`]

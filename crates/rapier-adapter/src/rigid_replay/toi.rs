@@ -300,9 +300,11 @@ fn advance(
     Some((t, 0.0))
 }
 
-/// The last instant in `[back, from]` at which `a` and `b`, overlapping at
-/// `from`, were apart by more than `-tolerance` (`from` if they overlap
-/// at `back` too).
+/// An instant in `[back, from]` at which `a` and `b`, overlapping at
+/// `from`, were apart and within `tolerance` of touching: the last one the
+/// bisection meets (`from` if they overlap at `back` too). The bisection
+/// stops once its interval is shorter than the time the pair needs to
+/// close the tolerance at its closing bound.
 fn rewound(
     a: &Mover,
     b: &Mover,
@@ -311,7 +313,8 @@ fn rewound(
     tolerance: Real,
     manifolds: &mut Vec<ContactManifold<(), ()>>,
 ) -> Real {
-    let reach = closing_bound(a, b) * (from - back) + tolerance;
+    let bound = closing_bound(a, b);
+    let reach = bound * (from - back) + tolerance;
     let apart = |t: Real, manifolds: &mut Vec<ContactManifold<(), ()>>| {
         movers_manifolds(a, b, t, reach, manifolds);
         gap(manifolds).is_none_or(|d| d > 0.0)
@@ -330,7 +333,7 @@ fn rewound(
         } else {
             hi = mid;
         }
-        if hi - lo <= Real::EPSILON * (from - back) {
+        if hi - lo <= Real::EPSILON * (from - back) || bound * (hi - lo) <= tolerance {
             break;
         }
     }
