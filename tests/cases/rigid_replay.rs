@@ -105,12 +105,12 @@ fn a_capsule_landing_in_a_heightfield_valley_never_gains_energy() {
 /// (their inertia is the same about every axis), so every change of energy
 /// would be an impact's. The dice may turn faster than rapier's cap of π/4
 /// per step (`RigidBody::set_allow_fast_rotation`), which would otherwise
-/// take the energy of a light die spun up by a corner impact. f64 (called
-/// from adapter.rs).
+/// take the energy of a light die spun up by a corner impact. `seed`
+/// throws the dice. f64 (called from adapter.rs).
 #[allow(dead_code)]
-fn dice_check(steps: usize) {
+fn dice_check(steps: usize, seed: u64) {
     use rand::{RngExt, SeedableRng};
-    let mut rng = rand::rngs::Xoshiro256PlusPlus::seed_from_u64(7);
+    let mut rng = rand::rngs::Xoshiro256PlusPlus::seed_from_u64(seed);
     let mut w = TestWorld::new(Mode::Exact, 0.0, Vector::ZERO);
     let half_box = 2.0;
     w.closed_box(half_box, 0.5);
@@ -118,7 +118,8 @@ fn dice_check(steps: usize) {
     let count = if DIM == 2 { 10 } else { 12 };
     let unit = |rng: &mut rand::rngs::Xoshiro256PlusPlus| rng.random_range(-1.0..1.0) as Real;
     for i in 0..count {
-        // On a grid, clear of each other at the start.
+        // On a grid 0.8 apart: two large dice turned towards each other
+        // may overlap at the start (they part within a few steps).
         let mut p = Vector::ZERO;
         p[0] = -1.2 + 0.8 * (i % 4) as Real;
         p[1] = -1.2 + 0.8 * ((i / 4) % 4) as Real;
@@ -146,17 +147,37 @@ fn dice_check(steps: usize) {
     }
     let e0 = kinetic_with_rotation(&w);
     let mut worst = 0.0f64;
+    let mut deepest = 0.0f64;
     for step in 0..steps {
         w.step();
         let e = kinetic_with_rotation(&w);
         worst = worst.max(((e - e0) / e0).abs());
-        assert!(worst < 1e-9, "step {step}: energy {e0} -> {e} ({worst:e}); events {:?}", w.kimpact.events());
+        assert!(
+            worst < 1e-9,
+            "seed {seed}, step {step}: energy {e0} -> {e} ({worst:e}); events {:?}",
+            w.kimpact.events()
+        );
+        // The deepest overlap rapier's narrow phase meets, once the dice
+        // placed overlapping on the grid have parted (reported, not
+        // asserted: see docs/rigid.md on edge contacts).
+        if step > 10 {
+            for cp in w.world.narrow_phase.contact_pairs() {
+                for m in cp.manifolds() {
+                    for p in &m.points {
+                        deepest = deepest.min(p.dist as f64);
+                    }
+                }
+            }
+        }
     }
     let inside = dice.iter().all(|&b| {
         let p = w.pos(b);
         (0..DIM).all(|a| p[a].abs() < half_box)
     });
-    eprintln!("dice {DIM}D: {steps} steps, {} impacts, energy kept to {worst:e}", w.kimpact.stats().impacts);
+    eprintln!(
+        "dice {DIM}D, seed {seed}: {steps} steps, {} impacts, energy kept to {worst:e}, deepest overlap {deepest:e}",
+        w.kimpact.stats().impacts
+    );
     assert!(inside, "a die left the box");
 }
 
@@ -165,6 +186,6 @@ fn dice_check(steps: usize) {
 #[test]
 fn dice_in_a_box_keep_their_energy_in_exact_mode() {
     if std::mem::size_of::<Real>() == 8 {
-        dice_check(600);
+        dice_check(600, 7);
     }
 }

@@ -38,12 +38,17 @@ impl Claims {
     /// contacts meet as an impact. That is when the centroid of the solver
     /// contacts whose material points close (their velocities at the start
     /// of the step) approaches faster than `rest_speed`, and no contact
-    /// that does not close touches (a box rocking on a corner, a body
-    /// sliding on a floor: rapier's solver keeps those, as the hook's
-    /// rigid path bounces them). A claimed pair's solver contacts are
+    /// that does not close touches but one that parts faster than
+    /// `rest_speed` (a box rocking on a corner, a body sliding on a floor:
+    /// rapier's solver keeps those, as the hook's rigid path bounces them;
+    /// a spinning die's corner leaving a wall as its next one strikes it
+    /// is the replay's). A pair whose every contact parts faster than
+    /// `rest_speed` is claimed too: the replay looks out for another of its
+    /// features striking within the step, which rapier's contacts do not
+    /// list. A claimed pair's solver contacts are
     /// cleared: rapier's solver leaves it alone and the replay resolves it
     /// after the step. A pair not claimed is either resting (no contact
-    /// closes, or their centroid closes clearly slower than `rest_speed`:
+    /// closes and some does not part, or their centroid closes clearly slower than `rest_speed`:
     /// the hook's rigid path would not bounce it, and its caller gives it
     /// no bounce without asking) or the hook's rigid path's.
     pub(crate) fn claim(
@@ -71,18 +76,30 @@ impl Claims {
             rb.map_or(Vector::ZERO, |rb| rb.velocity_at_point(point))
         };
         let relative = |point: Vector| velocity(body2, point) - velocity(body1, point);
-        let (mut sum, mut count) = (Vector::ZERO, 0usize);
+        let (mut sum, mut count, mut parting) = (Vector::ZERO, 0usize, true);
         for c in rigid.solver_contacts.iter() {
             let point = (c.anchor1 + c.anchor2) * 0.5;
-            if -relative(point).dot(n) > 0.0 {
+            let approach = -relative(point).dot(n);
+            parting &= approach < -rest_speed;
+            if approach > 0.0 {
                 sum += point;
                 count += 1;
-            } else if c.dist <= 0.0 {
+            } else if c.dist <= 0.0 && approach > -rest_speed {
+                // Touching and not parting faster than the rest speed: a
+                // box rocking on a corner, a body sliding on a floor.
                 return Claim::Solver;
             }
         }
         if count == 0 {
-            return Claim::Resting;
+            // Every contact parting faster than the rest speed (a die just
+            // bounced off a wall): the replay's, which looks out for its
+            // next corner striking within the step; rapier's solver would
+            // not see that corner come.
+            return if parting && !rigid.solver_contacts.is_empty() {
+                self.take(rigid, (c1, c2))
+            } else {
+                Claim::Resting
+            };
         }
         let approach = -relative(sum / count as Real).dot(n);
         if !(approach > rest_speed && approach.is_finite()) {
@@ -94,9 +111,19 @@ impl Claims {
                 Claim::Solver
             };
         }
+        self.take(rigid, (c1, c2))
+    }
+
+    /// Clear the solver contacts of pair `(c1, c2)` and list it for the
+    /// rigid replay.
+    fn take(
+        &self,
+        rigid: &mut ModifiableManifold,
+        pair: (ColliderHandle, ColliderHandle),
+    ) -> Claim {
         rigid.solver_contacts.clear();
         let mut list = self.list.lock().unwrap_or_else(|e| e.into_inner());
-        list.push((c1, c2));
+        list.push(pair);
         Claim::Claimed
     }
 

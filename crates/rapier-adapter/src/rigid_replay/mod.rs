@@ -57,6 +57,7 @@ use crate::rapier::parry::query::ContactManifold;
 use crate::rapier::prelude::*;
 use crate::replay::{ReplayOutput, ReplaySets};
 use crate::rigid_view::LawRigid;
+use resolve::Idle;
 
 pub(crate) use claim::{Claim, Claims};
 use motion::Motion;
@@ -317,11 +318,21 @@ impl RigidReplay {
                 );
                 break;
             }
-            let Some(bent) = self.impact(input, out, bodies, colliders, i, t) else {
+            let bent = match self.impact(input, out, bodies, colliders, i, t) {
+                Ok(bent) => bent,
                 // Touching without closing (or not for the law): idle until
-                // either body's path changes.
-                self.queue.set(i, None);
-                continue;
+                // either body's path changes; a parting touch, unless the
+                // pair meets again within the step (a spinning die's next
+                // corner), which counts towards the cap.
+                Err(idle) => {
+                    let again = match idle {
+                        Idle::Parting => self.reentry(input, colliders, i, t),
+                        Idle::Other => None,
+                    };
+                    events += usize::from(again.is_some());
+                    self.queue.set(i, again);
+                    continue;
+                }
             };
             events += 1;
             // Only a body the impact bent has a new path: the pairs of an

@@ -41,19 +41,7 @@ pub(crate) fn patch(
     let (pa, pb) = (&a.pose, &b.pose);
     let (a, b) = (a.shape, b.shape);
     manifolds_at(a, pa, b, pb, reach, manifolds);
-    // Each manifold's world frame: its normal and its contacts' midpoints.
-    let frame = |m: &ContactManifold<(), ()>| {
-        let poses = m.subshape_poses.as_deref();
-        let p1 = match poses.and_then(|p| p.pos1) {
-            Some(sub) => *pa * sub,
-            None => *pa,
-        };
-        let p2 = match poses.and_then(|p| p.pos2) {
-            Some(sub) => *pb * sub,
-            None => *pb,
-        };
-        (p1, p2, p1.rotation * m.local_n1)
-    };
+    let frame = |m: &ContactManifold<(), ()>| world_frame(m, pa, pb);
     let mut best: Option<(usize, Real)> = None;
     for (i, m) in manifolds.iter().enumerate() {
         let (p1, p2, n) = frame(m);
@@ -89,6 +77,43 @@ pub(crate) fn patch(
         point: sum / count as Real,
         normal: n,
     })
+}
+
+/// The world frame of manifold `m` of two shapes at `pa` and `pb`: the
+/// poses its contacts are given in (a composite's part's) and its normal.
+fn world_frame(m: &ContactManifold<(), ()>, pa: &Pose, pb: &Pose) -> (Pose, Pose, Vector) {
+    let poses = m.subshape_poses.as_deref();
+    let p1 = match poses.and_then(|p| p.pos1) {
+        Some(sub) => *pa * sub,
+        None => *pa,
+    };
+    let p2 = match poses.and_then(|p| p.pos2) {
+        Some(sub) => *pb * sub,
+        None => *pb,
+    };
+    (p1, p2, p1.rotation * m.local_n1)
+}
+
+/// Whether `manifolds` (of two shapes at `pa` and `pb`) list a contact
+/// within `reach` and every such contact's material points part
+/// (`parts(point, normal)`).
+pub(crate) fn all_part(
+    manifolds: &[ContactManifold<(), ()>],
+    (pa, pb): (&Pose, &Pose),
+    reach: Real,
+    parts: impl Fn(Vector, Vector) -> bool,
+) -> bool {
+    let mut any = false;
+    for m in manifolds {
+        let (p1, p2, n) = world_frame(m, pa, pb);
+        for c in m.points.iter().filter(|c| c.dist <= reach) {
+            if !parts((p1 * c.local_p1 + p2 * c.local_p2) * 0.5, n) {
+                return false;
+            }
+            any = true;
+        }
+    }
+    any
 }
 
 /// Where the manifolds list no contact at all (parry's segment against a

@@ -6,19 +6,32 @@ use kimpact::Contact;
 use crate::body_view::{dominated, law_body};
 use crate::events::{AppliedBy, Outcome};
 use crate::math::{Real, Vector, from_law, to_law};
+use crate::rapier::parry::query::ContactManifold;
 use crate::rapier::prelude::*;
 
 use super::motion::from_law_angular;
-use super::patch::patch;
+use super::patch::{all_part, patch};
+use super::toi::{Mover, closing_bound, gap, last_apart, manifolds_at};
 use super::{Key, PATCH_TOLERANCES, REST_FLOOR, RigidInput, RigidReplay};
 use crate::replay::ReplayOutput;
+
+/// Why [`RigidReplay::impact`] did nothing.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub(super) enum Idle {
+    /// Every contact it touches at parts faster than the rest speed (the
+    /// law just left it parting, or a turning body grazes it): another
+    /// feature may strike within the step ([`RigidReplay::reentry`]).
+    Parting,
+    /// Anything else: resting or sliding, a body the law does not take,
+    /// data that cannot enter it.
+    Other,
+}
 
 impl RigidReplay {
     /// Pair `i` at time `t`: if its patch closes faster than the rest
     /// speed, apply the law there, bend both paths and report the impact;
     /// returns whether each body's path was bent (an immovable or dominant
-    /// one's is not). `None` when nothing happened (touching without
-    /// closing, a body the law does not take, data that cannot enter it).
+    /// one's is not), or why nothing happened.
     pub(super) fn impact(
         &mut self,
         input: &RigidInput,
@@ -27,10 +40,25 @@ impl RigidReplay {
         colliders: &ColliderSet,
         i: usize,
         t: Real,
+    ) -> Result<[bool; 2], Idle> {
+        let patch = self.closing_patch(input, colliders, i, t)?;
+        self.apply(input, out, bodies, i, t, patch)
+            .ok_or(Idle::Other)
+    }
+
+    /// The law at pair `i`'s patch `(point, n)` at time `t` (see
+    /// [`RigidReplay::impact`]).
+    fn apply(
+        &mut self,
+        input: &RigidInput,
+        out: &mut ReplayOutput,
+        bodies: &RigidBodySet,
+        i: usize,
+        t: Real,
+        (point, n): (Vector, Vector),
     ) -> Option<[bool; 2]> {
         let dt = input.frame.dt;
         let pair = self.pairs[i];
-        let (point, n) = self.closing_patch(input, colliders, i, t)?;
         let (na, nb) = (&self.nodes[pair.a], &self.nodes[pair.b]);
         // The masses as the law takes them (locked translations, dominance).
         let parent = |key: Key| match key {
@@ -78,40 +106,82 @@ impl RigidReplay {
         Some(bent)
     }
 
+    /// For pair `i`, touching at `t` with every contact parting (the law
+    /// left it so, or a turning body grazed it): an instant in `(t, dt]` at which it meets
+    /// again, if it overlaps at the step's end by more than a patch's depth
+    /// and did not at `t`. A body turning fast brings another corner into
+    /// the partner its last one just left, which the search from `t` does
+    /// not see past the parting touch it starts from. Bisection for the
+    /// last instant before that overlap, as the rewind's; `None` for the
+    /// pairs that part (one look at the manifolds at the step's end).
+    pub(super) fn reentry(
+        &mut self,
+        input: &RigidInput,
+        colliders: &ColliderSet,
+        i: usize,
+        t: Real,
+    ) -> Option<Real> {
+        let dt = input.frame.dt;
+        let pair = self.pairs[i];
+        let tolerance = self.tolerance(colliders, i);
+        let mut manifolds = std::mem::take(&mut self.manifolds);
+        let again = match (
+            self.mover(colliders, pair.a, pair.c1),
+            self.mover(colliders, pair.b, pair.c2),
+        ) {
+            (Some(a), Some(b)) => meets_again(&a, &b, (t, dt), tolerance, &mut manifolds),
+            _ => None,
+        };
+        self.manifolds = manifolds;
+        again
+    }
+
     /// The centroid and normal of pair `i`'s contact patch at time `t`, if
     /// its material points there close faster than the rest speed (and a
-    /// floor relative to the bodies' speeds).
+    /// floor relative to the bodies' speeds); else whether it parts.
     fn closing_patch(
         &mut self,
         input: &RigidInput,
         colliders: &ColliderSet,
         i: usize,
         t: Real,
-    ) -> Option<(Vector, Vector)> {
+    ) -> Result<(Vector, Vector), Idle> {
         let dt = input.frame.dt;
         let pair = self.pairs[i];
         let tolerance = self.tolerance(colliders, i);
         let mut manifolds = std::mem::take(&mut self.manifolds);
-        let (a, b) = (
-            self.mover(colliders, pair.a, pair.c1)?,
-            self.mover(colliders, pair.b, pair.c2)?,
-        );
+        let (Some(a), Some(b)) = (
+            self.mover(colliders, pair.a, pair.c1),
+            self.mover(colliders, pair.b, pair.c2),
+        ) else {
+            self.manifolds = manifolds;
+            return Err(Idle::Other);
+        };
         let (na, nb) = (&self.nodes[pair.a], &self.nodes[pair.b]);
-        let closes = |point: Vector, n: Vector| {
+        let approach = |point: Vector, n: Vector| {
             let w = nb.point_velocity(point, t, dt) - na.point_velocity(point, t, dt);
-            -w.dot(n) > 0.0
+            -w.dot(n)
         };
         let depth = PATCH_TOLERANCES * tolerance;
+        let (pa, pb) = (a.placed_at(t), b.placed_at(t));
+        let reach = tolerance + depth;
         let found = patch(
-            a.placed_at(t),
-            b.placed_at(t),
-            tolerance + depth,
+            pa,
+            pb,
+            reach,
             depth,
-            closes,
+            |p, n| approach(p, n) > 0.0,
             &mut manifolds,
         );
+        let rest_speed = input.frame.rest_speed;
+        let parting = found.is_none()
+            && all_part(&manifolds, (&pa.pose, &pb.pose), reach, |p, n| {
+                approach(p, n) < -rest_speed
+            });
         self.manifolds = manifolds;
-        let found = found?;
+        let Some(found) = found else {
+            return Err(if parting { Idle::Parting } else { Idle::Other });
+        };
         let (point, n) = (found.point, found.normal);
         let (ua, ub) = (
             na.point_velocity(point, t, dt),
@@ -119,9 +189,47 @@ impl RigidReplay {
         );
         let approach = -(ub - ua).dot(n);
         let floor = REST_FLOOR * (ua.length() + ub.length());
-        if !(approach > input.frame.rest_speed.max(floor) && approach.is_finite()) {
-            return None;
+        if !(approach > rest_speed.max(floor) && approach.is_finite()) {
+            return Err(Idle::Other);
         }
-        Some((point, n))
+        Ok((point, n))
     }
+}
+
+/// [`RigidReplay::reentry`] of `a` and `b` over `(t, dt]`: if they
+/// overlap at the step's end by more than [`reentry_depth`], bisection
+/// for the last instant they overlap by less. The parting touch at `t`
+/// is within a tolerance or so of zero (parry's clipping moves its
+/// contact's distance by a few tolerances as the bodies turn): the depth
+/// keeps the bisection off it, and the impact is met that deep.
+fn meets_again(
+    a: &Mover,
+    b: &Mover,
+    (t, dt): (Real, Real),
+    tolerance: Real,
+    manifolds: &mut Vec<ContactManifold<(), ()>>,
+) -> Option<Real> {
+    if t >= dt || t.is_nan() {
+        return None;
+    }
+    let depth = reentry_depth(a, b, tolerance);
+    let bound = closing_bound(a, b);
+    let reach = bound * (dt - t) + tolerance;
+    let mut overlaps = |s: Real| {
+        let (pa, pb) = (a.pose_at(s), b.pose_at(s));
+        manifolds_at(a.shape, &pa, b.shape, &pb, reach, manifolds);
+        gap(manifolds).is_some_and(|d| d < -depth)
+    };
+    if !overlaps(dt) || overlaps(t) {
+        return None;
+    }
+    let lo = last_apart(t, dt, bound, tolerance, |s| !overlaps(s));
+    (lo > t).then_some(lo)
+}
+
+/// How deep a pair meeting again after a parting touch is met: a
+/// millionth of the smaller body's reach, or a patch's depth where the
+/// tolerance is coarser (f32).
+fn reentry_depth(a: &Mover, b: &Mover, tolerance: Real) -> Real {
+    (1e-6 * a.reach.min(b.reach)).max(PATCH_TOLERANCES * tolerance)
 }

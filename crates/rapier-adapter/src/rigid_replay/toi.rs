@@ -12,7 +12,8 @@
 use crate::cast::Rewind;
 use crate::math::{Pose, Real};
 use crate::rapier::parry::query::{
-    ContactManifold, DefaultQueryDispatcher, PersistentQueryDispatcher, QueryDispatcher,
+    ClosestPoints, ContactManifold, DefaultQueryDispatcher, PersistentQueryDispatcher,
+    QueryDispatcher,
 };
 use crate::rapier::parry::shape::Shape;
 
@@ -120,7 +121,7 @@ pub(crate) fn distance(
 
 /// The smallest distance of the manifolds' contacts (negative: overlap),
 /// `None` without contacts.
-fn gap(manifolds: &[ContactManifold<(), ()>]) -> Option<Real> {
+pub(crate) fn gap(manifolds: &[ContactManifold<(), ()>]) -> Option<Real> {
     manifolds
         .iter()
         .flat_map(|m| m.points.iter().map(|p| p.dist))
@@ -170,6 +171,14 @@ pub(crate) fn time_of_impact(
         AtStart::Touching => return Some(from),
         AtStart::InReach => {}
     }
+    // Two convex shapes (but a segment, whose manifold with a box lists no
+    // contact within 1e-8 of the face): advancement along their normal
+    // (GJK) down to the tolerance, the manifolds' gap taking over within
+    // GJK's own tolerance of a touch.
+    if stepped_on_normal(a.shape) && stepped_on_normal(b.shape) {
+        let start = advance_convex(a, b, from, to, tolerance)?;
+        return advance(a, b, start, to, tolerance, manifolds).map(|(t, _)| t);
+    }
     let dispatcher = DefaultQueryDispatcher;
     let motion = |m: &Mover| {
         let nonlinear = m.motion.nonlinear_at(from);
@@ -206,6 +215,12 @@ pub(crate) fn time_of_impact(
         }
         found => found.map(|(t, _)| t),
     }
+}
+
+/// Whether a pair of such shapes is searched by [`advance_convex`]: a
+/// convex shape but a segment.
+fn stepped_on_normal(shape: &dyn Shape) -> bool {
+    shape.as_support_map().is_some() && shape.as_segment().is_none()
 }
 
 /// Where a pair stands at the start of a time-of-impact search.
@@ -263,7 +278,7 @@ pub(crate) fn apart_for_narrow_phase(
 
 /// What `a` and `b` close by at most per unit of time: their relative
 /// speed plus how fast each one's turning moves its surface.
-fn closing_bound(a: &Mover, b: &Mover) -> Real {
+pub(crate) fn closing_bound(a: &Mover, b: &Mover) -> Real {
     (a.motion.linvel - b.motion.linvel).length() + a.turn_bound() + b.turn_bound()
 }
 
@@ -300,6 +315,54 @@ fn advance(
     Some((t, 0.0))
 }
 
+/// Conservative advancement of two convex shapes from `start` until they
+/// are within `near` of each other: the first such time, `None` if they
+/// stay farther apart until `to`. It steps on the bound along the
+/// normal of their closest points: with `n` from `a`'s closest point to
+/// `b`'s, `a` stays on its side of the plane through its closest point
+/// normal to `n` and `b` on the far side of the parallel plane through
+/// its own, and the gap between the planes (the distance `d` now) closes
+/// no faster than `(vₐ − v_b)·n + |ωₐ| reachₐ + |ω_b| reach_b`. A pair
+/// not closing along `n` never meets within the interval; one that closes
+/// steps by `d` over that speed. Fewer steps than the bound on the whole
+/// relative speed, which the gap of two boxes sliding past each other
+/// (dominoes in a row) closes only slowly against.
+fn advance_convex(a: &Mover, b: &Mover, start: Real, to: Real, near: Real) -> Option<Real> {
+    let turn = a.turn_bound() + b.turn_bound();
+    let bound = closing_bound(a, b);
+    if !bound.is_finite() {
+        return None;
+    }
+    let dispatcher = DefaultQueryDispatcher;
+    let mut t = start;
+    for _ in 0..MAX_ADVANCES {
+        let reach = (bound * (to - t) + near).max(0.0);
+        let (pa, pb) = (a.pose_at(t), b.pose_at(t));
+        let (near_a, near_b) =
+            match dispatcher.closest_points(&pa.inv_mul(&pb), a.shape, b.shape, reach) {
+                Ok(ClosestPoints::Disjoint) => return None,
+                Ok(ClosestPoints::WithinMargin(p1, p2)) => (pa * p1, pb * p2),
+                // Touching within GJK's own tolerance (or a query parry does
+                // not answer): the caller's search decides.
+                Ok(ClosestPoints::Intersecting) | Err(_) => return Some(t),
+            };
+        let d = (near_b - near_a).length();
+        if d <= near {
+            return Some(t);
+        }
+        let normal = (near_b - near_a) / d;
+        let closing = (a.motion.linvel - b.motion.linvel).dot(normal) + turn;
+        if closing <= 0.0 || closing.is_nan() {
+            return None;
+        }
+        t += d / closing;
+        if t > to {
+            return None;
+        }
+    }
+    Some(t)
+}
+
 /// An instant in `[back, from]` at which `a` and `b`, overlapping at
 /// `from`, were apart and within `tolerance` of touching: the last one the
 /// bisection meets (`from` if they overlap at `back` too). The bisection
@@ -322,18 +385,32 @@ fn rewound(
     if !apart(back, manifolds) {
         return from;
     }
-    let (mut lo, mut hi) = (back, from);
+    last_apart(back, from, bound, tolerance, |t| apart(t, manifolds))
+}
+
+/// Bisection of `[lo, hi]`, `apart` at `lo` and not at `hi`, for the last
+/// instant found apart: it stops once the interval is shorter than the
+/// time a pair closing at `bound` needs to close `tolerance` (or at the
+/// rounding of the interval).
+pub(crate) fn last_apart(
+    mut lo: Real,
+    mut hi: Real,
+    bound: Real,
+    tolerance: Real,
+    mut apart: impl FnMut(Real) -> bool,
+) -> Real {
+    let span = hi - lo;
     for _ in 0..REWIND_HALVINGS {
         let mid = 0.5 * (lo + hi);
         if !(mid > lo && mid < hi) {
             break;
         }
-        if apart(mid, manifolds) {
+        if apart(mid) {
             lo = mid;
         } else {
             hi = mid;
         }
-        if hi - lo <= Real::EPSILON * (from - back) || bound * (hi - lo) <= tolerance {
+        if hi - lo <= Real::EPSILON * span || bound * (hi - lo) <= tolerance {
             break;
         }
     }
