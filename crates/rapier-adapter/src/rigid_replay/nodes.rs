@@ -6,6 +6,7 @@ use crate::body_view::translations_locked;
 use crate::cast::Rewind;
 use crate::math::{Real, Vector};
 use crate::policy::RigidSweep;
+use crate::rapier::parry::query::ContactManifold;
 use crate::rapier::prelude::*;
 use crate::rigid_view::inverse_inertia;
 
@@ -202,26 +203,31 @@ impl RigidReplay {
         from: Real,
         to: Real,
     ) -> Option<Real> {
+        self.on_movers(colliders, i, |a, b, tolerance, manifolds| {
+            time_of_impact(a, b, from, to, tolerance, Rewind::at(from), manifolds)
+        })
+    }
+
+    /// `f` of pair `i`'s two colliders riding their paths, its tolerance
+    /// and the run's scratch manifolds; `None` when a collider is gone.
+    pub(super) fn on_movers<T>(
+        &mut self,
+        colliders: &ColliderSet,
+        i: usize,
+        f: impl FnOnce(&Mover, &Mover, Real, &mut Vec<ContactManifold<(), ()>>) -> Option<T>,
+    ) -> Option<T> {
         let p = self.pairs[i];
         let tolerance = self.tolerance(colliders, i);
         let mut manifolds = std::mem::take(&mut self.manifolds);
-        let toi = match (
+        let out = match (
             self.mover(colliders, p.a, p.c1),
             self.mover(colliders, p.b, p.c2),
         ) {
-            (Some(a), Some(b)) => time_of_impact(
-                &a,
-                &b,
-                from,
-                to,
-                tolerance,
-                Rewind::at(from),
-                &mut manifolds,
-            ),
+            (Some(a), Some(b)) => f(&a, &b, tolerance, &mut manifolds),
             _ => None,
         };
         self.manifolds = manifolds;
-        toi
+        out
     }
 
     /// Before any impact, in exact mode, and in impulse mode for a body

@@ -122,18 +122,9 @@ impl RigidReplay {
         t: Real,
     ) -> Option<Real> {
         let dt = input.frame.dt;
-        let pair = self.pairs[i];
-        let tolerance = self.tolerance(colliders, i);
-        let mut manifolds = std::mem::take(&mut self.manifolds);
-        let again = match (
-            self.mover(colliders, pair.a, pair.c1),
-            self.mover(colliders, pair.b, pair.c2),
-        ) {
-            (Some(a), Some(b)) => meets_again(&a, &b, (t, dt), tolerance, &mut manifolds),
-            _ => None,
-        };
-        self.manifolds = manifolds;
-        again
+        self.on_movers(colliders, i, |a, b, tolerance, manifolds| {
+            meets_again(a, b, (t, dt), tolerance, manifolds)
+        })
     }
 
     /// The centroid and normal of pair `i`'s contact patch at time `t`, if

@@ -1,13 +1,15 @@
 //! When two colliders riding their bodies' motions ([`Motion`]) first
-//! touch within an interval: parry's nonlinear shape cast
-//! (`cast_shapes_nonlinear`) for the pairs it supports, then conservative
-//! advancement on the distance of the pair's contact manifold (parry's
-//! `contact_manifolds`, which takes every pair rapier's narrow phase takes:
-//! heightfields too) until the gap is within the tolerance. parry's cast
-//! only gives the advancement a head start: its "no impact" is checked by
-//! the advancement (it steps over the contact of a rod turning fast from
-//! flat), and it answers "no impact" for a composite shape against a
-//! heightfield, which the advancement alone takes.
+//! touch within an interval: conservative advancement until the gap is
+//! within the tolerance. Two convex shapes step on the closing speed along
+//! the normal of their closest points (parry's GJK), the contact manifold
+//! confirming the touch. Other pairs get a head start from parry's
+//! nonlinear shape cast (`cast_shapes_nonlinear`), then advance on the
+//! distance of the pair's contact manifold (parry's `contact_manifolds`,
+//! which takes every pair rapier's narrow phase takes: heightfields too):
+//! parry's "no impact" is checked by the advancement (it steps over the
+//! contact of a rod turning fast from flat), and it answers "no impact"
+//! for a composite shape against a heightfield, which the advancement
+//! alone takes.
 
 use crate::cast::Rewind;
 use crate::math::{Pose, Real};
