@@ -94,26 +94,22 @@ fn world_frame(m: &ContactManifold<(), ()>, pa: &Pose, pb: &Pose) -> (Pose, Pose
     (p1, p2, p1.rotation * m.local_n1)
 }
 
-/// Whether `manifolds` (of two shapes at `pa` and `pb`) list a contact
-/// within `reach` and every such contact's material points part
-/// (`parts(point, normal)`).
+/// Whether every contact `manifolds` (of two shapes at `pa` and `pb`) list
+/// within `reach` has material points that part (`parts(point, normal)`);
+/// true when they list none.
 pub(crate) fn all_part(
     manifolds: &[ContactManifold<(), ()>],
     (pa, pb): (&Pose, &Pose),
     reach: Real,
     parts: impl Fn(Vector, Vector) -> bool,
 ) -> bool {
-    let mut any = false;
-    for m in manifolds {
+    manifolds.iter().all(|m| {
         let (p1, p2, n) = world_frame(m, pa, pb);
-        for c in m.points.iter().filter(|c| c.dist <= reach) {
-            if !parts((p1 * c.local_p1 + p2 * c.local_p2) * 0.5, n) {
-                return false;
-            }
-            any = true;
-        }
-    }
-    any
+        m.points
+            .iter()
+            .filter(|c| c.dist <= reach)
+            .all(|c| parts((p1 * c.local_p1 + p2 * c.local_p2) * 0.5, n))
+    })
 }
 
 /// Where the manifolds list no contact at all (parry's segment against a

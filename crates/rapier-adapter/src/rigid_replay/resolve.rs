@@ -18,9 +18,10 @@ use crate::replay::ReplayOutput;
 /// Why [`RigidReplay::impact`] did nothing.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub(super) enum Idle {
-    /// Every contact it touches at parts faster than the rest speed (the
-    /// law just left it parting, or a turning body grazes it): another
-    /// feature may strike within the step ([`RigidReplay::reentry`]).
+    /// Every contact its manifold lists at the touch parts faster than the
+    /// rest speed, or it lists none there (the law just left it parting, a
+    /// turning body grazes it, two edges pass): another feature may strike
+    /// within the step ([`RigidReplay::reentry`]).
     Parting,
     /// Anything else: resting or sliding, a body the law does not take,
     /// data that cannot enter it.
