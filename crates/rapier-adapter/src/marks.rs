@@ -181,7 +181,7 @@ impl Marks {
         c1: ColliderHandle,
         c2: ColliderHandle,
     ) -> bool {
-        !self.turning(colliders, bodies, c1, c2) && self.pairs(partners, colliders, bodies, c1, c2)
+        self.governance(partners, colliders, bodies, c1, c2) == Some(Governed::Points)
     }
 
     /// Whether the law governs the pair as rigid bodies at the manifold's
@@ -196,12 +196,13 @@ impl Marks {
         c1: ColliderHandle,
         c2: ColliderHandle,
     ) -> bool {
-        self.turning(colliders, bodies, c1, c2) && self.pairs(partners, colliders, bodies, c1, c2)
+        self.governance(partners, colliders, bodies, c1, c2) == Some(Governed::Rigid)
     }
 
-    /// How the law governs the pair, if it does: [`Marks::governs`] and
-    /// [`Marks::governs_rigid`] in one look at the marks (the contact
-    /// hook asks both of every pair it sees).
+    /// How the law governs the pair, if it does: as points
+    /// ([`Marks::governs`]) or as rigid bodies ([`Marks::governs_rigid`]),
+    /// in one look at the marks (the contact hook asks both of every pair
+    /// it sees).
     pub(crate) fn governance(
         &self,
         partners: Partners,
