@@ -45,12 +45,12 @@ impl Claims {
     /// is the replay's). A pair whose every contact parts faster than
     /// `rest_speed` is claimed too: the replay looks out for another of its
     /// features striking within the step, which rapier's contacts do not
-    /// list. A claimed pair's solver contacts are
-    /// cleared: rapier's solver leaves it alone and the replay resolves it
-    /// after the step. A pair not claimed is either resting (no contact
-    /// closes and some does not part, or their centroid closes clearly slower than `rest_speed`:
-    /// the hook's rigid path would not bounce it, and its caller gives it
-    /// no bounce without asking) or the hook's rigid path's.
+    /// list. A claimed pair's solver contacts are cleared: rapier's solver
+    /// leaves it alone and the replay resolves it after the step. A pair
+    /// not claimed is either resting (no contact closes and some does not
+    /// part, or their centroid closes clearly slower than `rest_speed`: the
+    /// hook's rigid path would not bounce it, and its caller gives it no
+    /// bounce without asking) or the hook's rigid path's.
     pub(crate) fn claim(
         &self,
         context: &mut ContactModificationContext,

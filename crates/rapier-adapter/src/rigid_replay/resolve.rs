@@ -107,14 +107,14 @@ impl RigidReplay {
         Some(bent)
     }
 
-    /// For pair `i`, touching at `t` with every contact parting (the law
-    /// left it so, or a turning body grazed it): an instant in `(t, dt]` at which it meets
-    /// again, if it overlaps at the step's end by more than a patch's depth
-    /// and did not at `t`. A body turning fast brings another corner into
-    /// the partner its last one just left, which the search from `t` does
-    /// not see past the parting touch it starts from. Bisection for the
-    /// last instant before that overlap, as the rewind's; `None` for the
-    /// pairs that part (one look at the manifolds at the step's end).
+    /// For pair `i`, idle at `t` as [`Idle::Parting`]: an instant in
+    /// `(t, dt]` at which it meets again, if it overlaps at the step's end
+    /// by more than [`reentry_depth`] and did not at `t`. A body turning
+    /// fast brings another corner into the partner its last one just left,
+    /// which the search from `t` does not see past the parting touch it
+    /// starts from. Bisection for the last instant before that overlap, as
+    /// the rewind's; `None` for the pairs that part (one look at the
+    /// manifolds at the step's end).
     pub(super) fn reentry(
         &mut self,
         input: &RigidInput,
