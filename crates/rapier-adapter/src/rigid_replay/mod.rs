@@ -16,10 +16,12 @@
 //! its contact patch there ([`patch::patch`]: the centroid of the closing
 //! contacts of the manifold, so a face lands at its centre), the law
 //! ([`kimpact::Law::resolve_rigid_with_friction`]) at that point with the
-//! bodies' velocities at that instant, the two paths bent there, the
-//! bodies' neighbours (their rapier contact pairs, and what a sweep along
-//! the new path reaches) brought in, and the times of impact of every pair
-//! of the two bodies found again from that instant. At the end each body
+//! bodies' velocities at that instant, the two paths bent there; the
+//! pairs of the two bodies touching then are met at that instant again,
+//! and once no impact is left at it (a pile resolves many at one instant)
+//! the bent bodies' other pairs are searched again from it and their
+//! neighbours (their rapier contact pairs, and what a sweep along the new
+//! path reaches) brought in ([`Instant`]). At the end each body
 //! whose path was bent gets the pose its path reaches at the step's end
 //! and its velocities: rapier's end-of-step velocities plus the changes.
 //!
@@ -45,6 +47,7 @@ mod toi;
 use kimpact::Law;
 
 use crate::body_view::Starts;
+use crate::cast::Rewind;
 use crate::config::ResolverConfig;
 use crate::frame::StepFrame;
 use crate::handle_map::HandleMap;
@@ -166,6 +169,40 @@ struct Pair {
     c2: ColliderHandle,
 }
 
+/// The instant of the latest impacts, and what waits for its end. A pile
+/// resolves many impacts at one instant, pair by pair through a cluster
+/// of touching bodies, each body hit several times: a pair apart at that
+/// instant cannot meet then, so its search (and the sweep of a bent body)
+/// runs once the instant is over, along the last paths, not after every
+/// impact.
+#[derive(Debug, Default)]
+struct Instant {
+    /// The instant.
+    at: Real,
+    /// Pairs apart at it, searched at its end.
+    deferred: Vec<usize>,
+    /// Nodes bent at it, expanded at its end.
+    bent: Vec<usize>,
+    /// Per pair: the instant it was last judged at and whether it touched
+    /// then (poses at an instant do not change with its impacts).
+    touching: Vec<(Real, bool)>,
+}
+
+impl Instant {
+    /// None yet.
+    fn clear(&mut self) {
+        self.at = Real::NAN;
+        self.deferred.clear();
+        self.bent.clear();
+        self.touching.clear();
+    }
+
+    /// Whether work waits for the instant's end.
+    fn pending(&self) -> bool {
+        !(self.deferred.is_empty() && self.bent.is_empty())
+    }
+}
+
 /// The rigid replay's state: the hook's claims, the start poses of the
 /// step's moving rigid bodies, and the scratch of a run (kept between
 /// steps, so a steady state allocates little).
@@ -186,6 +223,8 @@ pub(crate) struct RigidReplay {
     queue: Queue,
     /// Scratch of `resolve`: the pairs whose times an impact changes.
     stale: Vec<usize>,
+    /// The instant's work left for its end (see [`Instant`]).
+    instant: Instant,
     manifolds: Vec<ContactManifold<(), ()>>,
     /// Scratch of the sweeps.
     met: Vec<ColliderHandle>,
@@ -302,14 +341,18 @@ impl RigidReplay {
     /// The events, earliest first, until no pair meets before the step's
     /// end (or the event cap).
     fn resolve(&mut self, input: &RigidInput, out: &mut ReplayOutput, world: World) {
-        let World {
-            bodies, colliders, ..
-        } = world;
+        let colliders = world.colliders;
+        let bodies = world.bodies;
         let dt = input.frame.dt;
         let max_events = input.config.max_events_per_step;
         let mut events = 0usize;
+        self.instant.clear();
         loop {
             let next = self.queue.next();
+            if self.instant.pending() && next.is_none_or(|(t, _)| t != self.instant.at) {
+                self.finish_instant(input, world);
+                continue;
+            }
             let Some((t, i)) = next else { break };
             if events >= max_events {
                 out.log.cap_hit();
@@ -340,24 +383,80 @@ impl RigidReplay {
             // their times.
             let (a, b) = (self.pairs[i].a, self.pairs[i].b);
             let changed = |n: usize| (n == a && bent[0]) || (n == b && bent[1]);
-            // The pairs brought in by `expand` get their times there.
-            let known = self.pairs.len();
+            self.instant.at = t;
             let mut stale = std::mem::take(&mut self.stale);
             stale.clear();
             for n in [a, b] {
                 if changed(n) {
                     stale.extend(self.pairs_of[n].iter().copied());
-                    self.expand(input, world, n, t);
+                    self.instant.bent.push(n);
                 }
             }
             stale.sort_unstable();
             stale.dedup();
-            for &j in stale.iter().filter(|&&j| j < known) {
-                let toi = self.time_of_impact(colliders, j, t, dt);
-                self.queue.set(j, toi);
+            for &j in &stale {
+                self.restart(colliders, j, t, dt);
             }
             self.stale = stale;
         }
+    }
+
+    /// Pair `j` after an impact at `t` bent either body's path: if it
+    /// touches at `t` it meets then (its patch decides); if it is apart
+    /// it cannot meet at `t`, and its search waits for the instant's end,
+    /// along the paths every impact of the instant left ([`Instant`]). A
+    /// pair that is not two convex shapes, or one touching at the step's
+    /// start (whose search may rewind it), is searched now.
+    fn restart(&mut self, colliders: &ColliderSet, j: usize, t: Real, dt: Real) {
+        let touching = match self.instant.touching.get(j) {
+            Some(&(at, touching)) if at == t => Some(touching),
+            _ => self.on_movers(colliders, j, |a, b, tolerance, _| {
+                toi::touching_at(a, b, t, tolerance)
+            }),
+        };
+        match touching {
+            Some(false) => {
+                self.queue.set(j, None);
+                self.instant.deferred.push(j);
+            }
+            Some(true) if Rewind::at(t) == Rewind::Never => self.queue.set(j, Some(t)),
+            _ => {
+                let toi = self.time_of_impact(colliders, j, t, dt);
+                self.queue.set(j, toi);
+            }
+        }
+        if let Some(touching) = touching {
+            if self.instant.touching.len() <= j {
+                self.instant.touching.resize(j + 1, (Real::NAN, false));
+            }
+            self.instant.touching[j] = (t, touching);
+        }
+    }
+
+    /// The end of an instant at which impacts bent paths: the pairs apart
+    /// then searched along the paths they left, and the bent bodies'
+    /// neighbours brought in.
+    fn finish_instant(&mut self, input: &RigidInput, world: World) {
+        let (t, dt) = (self.instant.at, input.frame.dt);
+        let mut deferred = std::mem::take(&mut self.instant.deferred);
+        deferred.sort_unstable();
+        deferred.dedup();
+        for &j in &deferred {
+            // Met again at the instant since (a touch it was apart from
+            // cannot be): its time stands.
+            let toi = self.time_of_impact(world.colliders, j, t, dt);
+            self.queue.set(j, toi);
+        }
+        deferred.clear();
+        self.instant.deferred = deferred;
+        let mut bent = std::mem::take(&mut self.instant.bent);
+        bent.sort_unstable();
+        bent.dedup();
+        for &n in &bent {
+            self.expand(input, world, n, t);
+        }
+        bent.clear();
+        self.instant.bent = bent;
     }
 
     /// The law's body of node `n` at time `t` with mass `mass`.

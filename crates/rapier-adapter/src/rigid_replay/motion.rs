@@ -65,9 +65,10 @@ impl Motion {
             .position_at_time(t - self.t_ref)
     }
 
-    /// The world centre of mass at time `t`.
+    /// The world centre of mass at time `t`: on its straight line (the
+    /// turn is about it), without the turn's rotation.
     pub(crate) fn com_at(&self, t: Real) -> Vector {
-        self.pose_at(t) * self.local_com
+        self.pose * self.local_com + self.linvel * (t - self.t_ref)
     }
 
     /// Bend the path at time `t`: from there the centre moves at
@@ -83,6 +84,14 @@ impl Motion {
     /// centre of mass relative to the centre.
     pub(crate) fn turn_speed(&self, reach: Real) -> Real {
         angular_speed(self.angvel) * reach
+    }
+
+    /// The largest speed along the unit vector `n` of a point of the body
+    /// within `reach` of its centre of mass relative to the centre:
+    /// `(ω × r)·n = r·(n × ω) ≤ reach |n × ω|` (in 2D, where `ω` is normal
+    /// to every `n`, [`Motion::turn_speed`]).
+    pub(crate) fn turn_speed_along(&self, n: Vector, reach: Real) -> Real {
+        turn_across(self.angvel, n) * reach
     }
 }
 
@@ -113,6 +122,18 @@ fn turn_between(start: &Pose, end: &Pose, _angvel: AngVector, _dt: Real) -> AngV
 /// No rotation.
 pub(crate) fn zero_angvel() -> AngVector {
     Default::default()
+}
+
+/// `|n × ω|` for a unit `n` in the plane: `|ω|`.
+#[cfg(feature = "dim2")]
+fn turn_across(w: AngVector, _n: Vector) -> Real {
+    w.abs()
+}
+
+/// `|n × ω|`.
+#[cfg(feature = "dim3")]
+fn turn_across(w: AngVector, n: Vector) -> Real {
+    n.cross(w).length()
 }
 
 /// `|ω|`.

@@ -12,7 +12,7 @@
 //! alone takes.
 
 use crate::cast::Rewind;
-use crate::math::{Pose, Real};
+use crate::math::{Pose, Real, Vector};
 use crate::rapier::parry::query::{
     ClosestPoints, ContactManifold, DefaultQueryDispatcher, PersistentQueryDispatcher,
     QueryDispatcher,
@@ -60,6 +60,12 @@ impl<'a> Mover<'a> {
     /// the body's centre of mass.
     fn turn_bound(&self) -> Real {
         self.motion.turn_speed(self.reach)
+    }
+
+    /// An upper bound of how fast a point of the shape moves along the
+    /// unit vector `n` relative to the body's centre of mass.
+    fn turn_bound_along(&self, n: Vector) -> Real {
+        self.motion.turn_speed_along(n, self.reach)
     }
 }
 
@@ -219,6 +225,22 @@ pub(crate) fn time_of_impact(
     }
 }
 
+/// Whether two convex shapes `a` and `b` are within `tolerance` of each
+/// other at `t`: what the start of [`time_of_impact`] from `t` judges
+/// (parry's distance; bounding spheres first). `None` for other shapes,
+/// whose search decides.
+pub(crate) fn touching_at(a: &Mover, b: &Mover, t: Real, tolerance: Real) -> Option<bool> {
+    if a.shape.as_support_map().is_none() || b.shape.as_support_map().is_none() {
+        return None;
+    }
+    let centres = (a.motion.com_at(t) - b.motion.com_at(t)).length();
+    if centres - a.reach - b.reach > tolerance {
+        return Some(false);
+    }
+    let (pa, pb) = (a.pose_at(t), b.pose_at(t));
+    Some(distance(a.shape, &pa, b.shape, &pb, tolerance).is_some())
+}
+
 /// Whether a pair of such shapes is searched by [`advance_convex`]: a
 /// convex shape but a segment.
 fn stepped_on_normal(shape: &dyn Shape) -> bool {
@@ -324,13 +346,13 @@ fn advance(
 /// `b`'s, `a` stays on its side of the plane through its closest point
 /// normal to `n` and `b` on the far side of the parallel plane through
 /// its own, and the gap between the planes (the distance `d` now) closes
-/// no faster than `(vₐ − v_b)·n + |ωₐ| reachₐ + |ω_b| reach_b`. A pair
+/// no faster than `(vₐ − v_b)·n + |n × ωₐ| reachₐ + |n × ω_b| reach_b`
+/// (Danskin: a support point's speed along `n`). A pair
 /// not closing along `n` never meets within the interval; one that closes
 /// steps by `d` over that speed. Fewer steps than the bound on the whole
 /// relative speed, which the gap of two boxes sliding past each other
 /// (dominoes in a row) closes only slowly against.
 fn advance_convex(a: &Mover, b: &Mover, start: Real, to: Real, near: Real) -> Option<Real> {
-    let turn = a.turn_bound() + b.turn_bound();
     let bound = closing_bound(a, b);
     if !bound.is_finite() {
         return None;
@@ -353,6 +375,7 @@ fn advance_convex(a: &Mover, b: &Mover, start: Real, to: Real, near: Real) -> Op
             return Some(t);
         }
         let normal = (near_b - near_a) / d;
+        let turn = a.turn_bound_along(normal) + b.turn_bound_along(normal);
         let closing = (a.motion.linvel - b.motion.linvel).dot(normal) + turn;
         if closing <= 0.0 || closing.is_nan() {
             return None;

@@ -365,3 +365,93 @@ fn a_search_starting_in_contact_meets_at_its_start() {
         "t = {t} for {expected}"
     );
 }
+
+/// The touch an impact's instant judges its bodies' other pairs by
+/// (`touching_at`) is the one the search from that instant starts with: a
+/// cube touching the floor meets it at once, one apart does not (whether
+/// it falls, rests or rises, level or turned); a shape that is not convex
+/// is left to its search.
+#[test]
+fn the_instant_s_touch_is_the_search_s() {
+    let mut manifolds = Vec::new();
+    let (ground, still) = floor();
+    let cube = Cuboid::new(Vector::splat(0.5));
+    let tolerance = (1e-3 * tol()) as Real;
+    let b = Mover {
+        motion: &still,
+        offset: None,
+        shape: &ground,
+        reach: 10.1 * (DIM as Real).sqrt(),
+    };
+    // The lowest point of a cube turned by `angle` about z is this far
+    // below its centre.
+    let low = |angle: Real| 0.5 * (angle.cos().abs() + angle.sin().abs());
+    let mut seen = [0usize; 2];
+    for angle in [0.0, 0.3] {
+        for gap in [0.0, 0.5 * tolerance, 3.0 * tolerance, 0.1, 2.0] {
+            for vy in [-2.0, 0.0, 2.0] {
+                let mut falling = body(xy(0.0, low(angle) + gap), angle, xy(0.0, vy), about_z(1.5));
+                falling.t_ref = 0.25;
+                let a = Mover {
+                    motion: &falling,
+                    offset: Some(Pose::IDENTITY),
+                    shape: &cube,
+                    reach: 0.87,
+                };
+                let touching = touching_at(&a, &b, 0.25, tolerance).expect("two convex shapes");
+                let searched =
+                    time_of_impact(&a, &b, 0.25, 1.0, tolerance, Rewind::Never, &mut manifolds);
+                assert_eq!(
+                    touching,
+                    searched == Some(0.25),
+                    "angle {angle}, gap {gap}, vy {vy}: search {searched:?}"
+                );
+                seen[usize::from(touching)] += 1;
+            }
+        }
+    }
+    assert!(seen[0] > 0 && seen[1] > 0, "both answers met: {seen:?}");
+    let compound = Compound::new(vec![(Pose::IDENTITY, SharedShape::new(cube))]);
+    let motion = body(xy(0.0, 0.5), 0.0, Vector::ZERO, zero_angvel());
+    let a = Mover {
+        motion: &motion,
+        offset: Some(Pose::IDENTITY),
+        shape: &compound,
+        reach: 0.87,
+    };
+    assert_eq!(touching_at(&a, &b, 0.25, tolerance), None);
+}
+
+/// The turn's bound along a direction holds every point of the body
+/// within its reach: `(ω × r)·n ≤ |n × ω| reach`, and it is never above
+/// the bound on the whole turn (`|ω| reach`).
+#[test]
+fn the_turn_bound_along_a_normal_holds_every_point() {
+    let mut rng = crate::test_rng::TestRng::new(11);
+    let reach = 0.7 as Real;
+    for _ in 0..2000 {
+        let mut unit = || {
+            let mut v = Vector::ZERO;
+            for k in 0..DIM {
+                v[k] = 2.0 * rng.next() - 1.0;
+            }
+            v.normalize_or_zero()
+        };
+        let (n, r) = (unit(), unit() * reach);
+        if n == Vector::ZERO {
+            continue;
+        }
+        #[cfg(feature = "dim2")]
+        let w: AngVector = 5.0 * n.x;
+        #[cfg(feature = "dim3")]
+        let w: AngVector = 5.0 * unit();
+        let motion = body(Vector::ZERO, 0.0, Vector::ZERO, w);
+        let along = motion.turn_speed_along(n, reach);
+        let speed = super::super::cross(w, r).dot(n);
+        assert!(
+            speed <= along * (1.0 + 1e-5) + 1e-6,
+            "{speed} above {along}"
+        );
+        assert!(along <= motion.turn_speed(reach) * (1.0 + 1e-5) + 1e-6);
+    }
+}
