@@ -455,3 +455,72 @@ fn the_turn_bound_along_a_normal_holds_every_point() {
         assert!(along <= motion.turn_speed(reach) * (1.0 + 1e-5) + 1e-6);
     }
 }
+
+/// The boxes' separating axis the convex search steps on when they are
+/// well apart (`cuboid_separation`) is a pair of separating planes: every
+/// corner of the first box lies on its side of the plane through its
+/// farthest corner along the axis, every corner of the second at least the
+/// gap beyond it, and the gap is at most their distance (GJK's, parry's).
+#[test]
+fn the_boxes_separating_axis_separates_them_by_its_gap() {
+    let mut rng = crate::test_rng::TestRng::new(5);
+    let mut v = |scale: Real| {
+        let mut v = Vector::ZERO;
+        for k in 0..DIM {
+            v[k] = scale * (2.0 * rng.next() - 1.0);
+        }
+        v
+    };
+    fn corners(c: &Cuboid, pose: Pose) -> Vec<Vector> {
+        (0..1usize << DIM)
+            .map(|bits| {
+                let mut p = c.half_extents;
+                for k in 0..DIM {
+                    if bits & (1 << k) != 0 {
+                        p[k] = -p[k];
+                    }
+                }
+                pose * p
+            })
+            .collect()
+    }
+    let mut separated = 0;
+    for _ in 0..500 {
+        let (a, b) = (
+            Cuboid::new(v(0.5).abs() + Vector::splat(0.05)),
+            Cuboid::new(v(0.5).abs() + Vector::splat(0.05)),
+        );
+        #[cfg(feature = "dim2")]
+        let (ra, rb) = (v(3.0).x, v(3.0).x);
+        #[cfg(feature = "dim3")]
+        let (ra, rb) = (v(3.0), v(3.0));
+        let pa = Pose::new(v(1.0), ra);
+        let pb = Pose::new(v(3.0), rb);
+        let (gap, n) = cuboid_separation(&a, &pa, &b, &pb);
+        assert!((n.length() - 1.0).abs() < 1e-4, "a unit axis: {n:?}");
+        let top = corners(&a, pa)
+            .into_iter()
+            .map(|p| p.dot(n))
+            .fold(Real::MIN, Real::max);
+        let bottom = corners(&b, pb)
+            .into_iter()
+            .map(|p| p.dot(n))
+            .fold(Real::MAX, Real::min);
+        let slack = 1e-4 as Real;
+        assert!(
+            (bottom - top - gap).abs() < slack,
+            "gap {gap} between planes {}",
+            bottom - top
+        );
+        let distance = DefaultQueryDispatcher
+            .distance(&pa.inv_mul(&pb), &a, &b)
+            .unwrap()
+            .distance;
+        assert!(
+            gap <= distance + slack,
+            "gap {gap} above the distance {distance}"
+        );
+        separated += usize::from(gap > 0.0);
+    }
+    assert!(separated > 100, "{separated} separated pairs");
+}
