@@ -118,6 +118,16 @@ impl StepHooks<'_> {
         let partners = self.policy.partners;
         let governed = self.marks.governance(partners, colliders, bodies, c1, c2);
         if governed == Some(Governed::Points) {
+            // Impulse and exact mode: a ball's impact on a turning kinematic
+            // body (a flipper) is the rigid replay's, at its time of impact
+            // along the body's turn; anything else the point pair's.
+            if self.policy.replays_rigid()
+                && (is_turning_kinematic(bodies, context.rigid_body1)
+                    || is_turning_kinematic(bodies, context.rigid_body2))
+                && self.claims.claim(context, self.frame.rest_speed) == Claim::Claimed
+            {
+                return;
+            }
             self.respond_point(context);
         } else if governed == Some(Governed::Rigid) {
             // Impulse and exact mode: an impact is the rigid replay's.
@@ -174,9 +184,10 @@ impl StepHooks<'_> {
             rigid: None,
         };
         // The point replay and the graze test move bodies on straight
-        // paths: a pair with a turning kinematic body (a flipper) is
-        // bounced by rapier's solver with the law's restitution, in every
-        // mode.
+        // paths: a pair with a turning kinematic body (a flipper) the rigid
+        // replay did not claim (restitution mode; resting or sliding
+        // contacts) is bounced by rapier's solver with the law's
+        // restitution.
         let turning =
             is_turning_kinematic(bodies, pair.rb1) || is_turning_kinematic(bodies, pair.rb2);
         let by_replay = !turning
