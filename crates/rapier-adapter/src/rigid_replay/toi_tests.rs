@@ -60,6 +60,26 @@ fn body(at: Vector, angle: Real, linvel: Vector, angvel: AngVector) -> Motion {
     }
 }
 
+/// The floor of [`floor`] riding its still motion.
+fn floor_mover<'a>(still: &'a Motion, ground: &'a Cuboid) -> Mover<'a> {
+    Mover {
+        motion: still,
+        offset: None,
+        shape: ground,
+        reach: 10.1 * (DIM as Real).sqrt(),
+    }
+}
+
+/// A cube of half-extent 0.5 riding `motion`.
+fn cube_mover<'a>(motion: &'a Motion, cube: &'a Cuboid) -> Mover<'a> {
+    Mover {
+        motion,
+        offset: Some(Pose::IDENTITY),
+        shape: cube,
+        reach: 0.87,
+    }
+}
+
 /// The first root of `f` in `[0, end]` (sampled, then bisected), if any.
 fn first_root(f: impl Fn(f64) -> f64, end: f64) -> Option<f64> {
     let samples = 4000;
@@ -334,18 +354,7 @@ fn a_search_starting_in_contact_meets_at_its_start() {
         // At `height` above the floor at 0.25, the search's start.
         let mut falling = body(xy(0.0, 0.5 + height), 0.0, xy(0.0, vy), zero_angvel());
         falling.t_ref = 0.25;
-        let a = Mover {
-            motion: &falling,
-            offset: Some(Pose::IDENTITY),
-            shape: &cube,
-            reach: 0.87,
-        };
-        let b = Mover {
-            motion: &still,
-            offset: None,
-            shape: &ground,
-            reach: 10.1 * (DIM as Real).sqrt(),
-        };
+        let (a, b) = (cube_mover(&falling, &cube), floor_mover(&still, &ground));
         time_of_impact(&a, &b, 0.25, 1.0, tolerance, Rewind::Never, manifolds)
     };
     for vy in [-2.0, 0.0, 2.0] {
@@ -377,12 +386,7 @@ fn the_instant_s_touch_is_the_search_s() {
     let (ground, still) = floor();
     let cube = Cuboid::new(Vector::splat(0.5));
     let tolerance = (1e-3 * tol()) as Real;
-    let b = Mover {
-        motion: &still,
-        offset: None,
-        shape: &ground,
-        reach: 10.1 * (DIM as Real).sqrt(),
-    };
+    let b = floor_mover(&still, &ground);
     // The lowest point of a cube turned by `angle` about z is this far
     // below its centre.
     let low = |angle: Real| 0.5 * (angle.cos().abs() + angle.sin().abs());
@@ -392,12 +396,7 @@ fn the_instant_s_touch_is_the_search_s() {
             for vy in [-2.0, 0.0, 2.0] {
                 let mut falling = body(xy(0.0, low(angle) + gap), angle, xy(0.0, vy), about_z(1.5));
                 falling.t_ref = 0.25;
-                let a = Mover {
-                    motion: &falling,
-                    offset: Some(Pose::IDENTITY),
-                    shape: &cube,
-                    reach: 0.87,
-                };
+                let a = cube_mover(&falling, &cube);
                 let touching = touching_at(&a, &b, 0.25, tolerance).expect("two convex shapes");
                 let searched =
                     time_of_impact(&a, &b, 0.25, 1.0, tolerance, Rewind::Never, &mut manifolds);
