@@ -442,8 +442,6 @@ impl RigidReplay {
         deferred.sort_unstable();
         deferred.dedup();
         for &j in &deferred {
-            // Met again at the instant since (a touch it was apart from
-            // cannot be): its time stands.
             let toi = self.time_of_impact(world.colliders, j, t, dt);
             self.queue.set(j, toi);
         }
