@@ -348,7 +348,9 @@ fn advance(
 /// normal to `n` and `b` on the far side of the parallel plane through
 /// its own, and the gap between the planes (the distance `d` now) closes
 /// no faster than `(vₐ − v_b)·n + |n × ωₐ| reachₐ + |n × ω_b| reach_b`
-/// (Danskin: a support point's speed along `n`). A pair
+/// (Danskin: a support point's speed along `n`). Two boxes well apart
+/// step on parry's SAT axis instead ([`cuboid_separation`]: the same two
+/// planes, found without the closest points). A pair
 /// not closing along `n` never meets within the interval; one that closes
 /// steps by `d` over that speed. Fewer steps than the bound on the whole
 /// relative speed, which the gap of two boxes sliding past each other
@@ -414,7 +416,7 @@ fn step_on(a: &Mover, b: &Mover, gap: Real, normal: Vector) -> Option<Real> {
 /// and its world axis, from `a` towards `b`: the gap between two parallel
 /// planes separating them, so a lower bound of their distance (negative
 /// when they overlap).
-pub(crate) fn cuboid_separation(a: &Cuboid, pa: &Pose, b: &Cuboid, pb: &Pose) -> (Real, Vector) {
+fn cuboid_separation(a: &Cuboid, pa: &Pose, b: &Cuboid, pb: &Pose) -> (Real, Vector) {
     let pos12 = pa.inv_mul(pb);
     let (s1, n1) = sat::cuboid_cuboid_find_local_separating_normal_oneway(a, b, &pos12);
     let (s2, n2) = sat::cuboid_cuboid_find_local_separating_normal_oneway(b, a, &pos12.inverse());
