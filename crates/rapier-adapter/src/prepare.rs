@@ -39,7 +39,7 @@ pub(crate) struct PrepareInput<'a> {
     pub keep_moving_awake: bool,
 }
 
-/// What [`Prepare::flag`] needs of the step beyond the body: where to look
+/// What [`Pass::flag`] needs of the step beyond the body: where to look
 /// for its contacts and how it is judged swept or to be kept awake.
 #[derive(Copy, Clone)]
 struct FlagStep<'a> {
