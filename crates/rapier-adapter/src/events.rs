@@ -25,9 +25,9 @@ pub struct ImpactEvent {
     /// impact (in `Restitution` mode, a pair with a marked collider of
     /// another shape than a ball centred on a dynamic body, and a pair of
     /// balls slower than a quarter of their size per step; in `Impulse` and
-    /// `Exact` mode, such a rigid pair whose contacts also touch without
-    /// closing, as a box rocking on a corner): rapier's contact impulses
-    /// include it. `false` when kimpact changed the velocities itself (the
+    /// `Exact` mode, such a rigid pair closing near the rest speed, or
+    /// striking from beyond the step's reach beside a contact that touches
+    /// without closing): rapier's contact impulses include it. `false` when kimpact changed the velocities itself (the
     /// replays, at the time of impact).
     pub by_solver: bool,
     /// The contact point (world space) at the impact.

@@ -124,7 +124,7 @@ impl StepHooks<'_> {
             if self.policy.replays_rigid()
                 && (is_turning_kinematic(bodies, context.rigid_body1)
                     || is_turning_kinematic(bodies, context.rigid_body2))
-                && self.claims.claim(context, self.frame.rest_speed) == Claim::Claimed
+                && self.claims.claim(context, self.claim_speeds()) == Claim::Claimed
             {
                 return;
             }
@@ -132,7 +132,7 @@ impl StepHooks<'_> {
         } else if governed == Some(Governed::Rigid) {
             // Impulse and exact mode: an impact is the rigid replay's.
             let claim = if self.policy.replays_rigid() {
-                self.claims.claim(context, self.frame.rest_speed)
+                self.claims.claim(context, self.claim_speeds())
             } else {
                 Claim::Solver
             };
@@ -146,6 +146,16 @@ impl StepHooks<'_> {
                 Claim::Solver => self.respond_rigid(context),
             }
         }
+    }
+
+    /// What [`Claims::claim`] judges a contact by: the rest speed, the
+    /// approach gravity adds over the step, and the step.
+    fn claim_speeds(&self) -> (Real, Real, Real) {
+        (
+            self.frame.rest_speed,
+            self.frame.gravity_speed,
+            self.frame.dt,
+        )
     }
 
     /// A pair the law governs as points (two balls centred on their

@@ -212,9 +212,9 @@ impl Kimpact {
     /// follows the law for rigid bodies (`kimpact::Law::resolve_rigid`) in
     /// every law mode. In `Impulse` and `Exact` its impacts are replayed
     /// at their time of impact along the motion rapier gave the bodies (at
-    /// the centroid of the contact patch there); in `Restitution` (and in
-    /// the others for a contact that also touches without closing, a box
-    /// rocking on a corner) the restitution of its impacts is the law's at
+    /// the centroid of the contact patch there, a box rocking on a corner
+    /// too); in `Restitution` (and in the others for an impact near the
+    /// rest speed) the restitution of its impacts is the law's at
     /// the manifold's contact (the centroid of its solver contacts, which
     /// rapier's solver then takes as one), with the effective mass of both
     /// bodies there, applied by rapier's solver and reported. As a fixed or

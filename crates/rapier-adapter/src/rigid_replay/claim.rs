@@ -8,7 +8,7 @@ use crate::body_view::law_body;
 use crate::math::{Real, Vector};
 use crate::rapier::prelude::*;
 
-/// Below this share of the rest speed a closing centroid is resting for
+/// Below this share of the rest speed a closing contact is resting for
 /// certain: far beyond the rounding by which the hook's rigid path, which
 /// measures the approach by the law's arithmetic, may differ.
 const RESTING_SHARE: Real = 0.999;
@@ -34,27 +34,28 @@ pub(crate) struct Claims {
 impl Claims {
     /// In impulse and exact mode, a pair of a marked collider of another
     /// shape than a centred ball on a dynamic body that the law governs
-    /// (`Marks::governs_rigid`): take it for the rigid replay when its
-    /// contacts meet as an impact. That is when the centroid of the solver
-    /// contacts whose material points close (their velocities at the start
-    /// of the step) approaches faster than `rest_speed`, and no contact
-    /// that does not close touches but one that parts faster than
-    /// `rest_speed` (a box rocking on a corner, a body sliding on a floor:
-    /// rapier's solver keeps those, as the hook's rigid path bounces them;
-    /// a spinning die's corner leaving a wall as its next one strikes it
-    /// is the replay's). A pair whose every contact parts faster than
-    /// `rest_speed` is claimed too: the replay looks out for another of its
-    /// features striking within the step, which rapier's contacts do not
-    /// list. A claimed pair's solver contacts are cleared: rapier's solver
-    /// leaves it alone and the replay resolves it after the step. A pair
-    /// not claimed is either resting (no contact closes and some does not
-    /// part, or their centroid closes clearly slower than `rest_speed`: the
-    /// hook's rigid path would not bounce it, and its caller gives it no
-    /// bounce without asking) or the hook's rigid path's.
+    /// (`Marks::governs_rigid`): take it for the rigid replay when one of
+    /// its contacts strikes: its material points (their velocities at the
+    /// start of the step) close faster than `rest_speed`. Other contacts
+    /// of the pair may rest or slide meanwhile (a box rocking on one corner
+    /// as the other lands): the replay meets the striking one at its time
+    /// of impact, if it is near enough to touch within the step (`dt`,
+    /// gravity adding `gravity_speed` to its approach; twice that reach,
+    /// for a turning body's corner). Farther, the pair stays rapier's
+    /// solver's this step, which holds the touching contact the replay
+    /// would leave unheld. A pair whose every contact parts
+    /// faster than `rest_speed` is claimed too: the replay looks out for
+    /// another of its features striking within the step, which rapier's
+    /// contacts do not list. A claimed pair's solver contacts are cleared:
+    /// rapier's solver leaves it alone and the replay resolves it after the
+    /// step. A pair not claimed is either resting (no contact closes clearly
+    /// faster than `rest_speed`: the hook's rigid path would not bounce it,
+    /// and its caller gives it no bounce without asking) or the hook's
+    /// rigid path's (near the rest speed, or striking from too far).
     pub(crate) fn claim(
         &self,
         context: &mut ContactModificationContext,
-        rest_speed: Real,
+        (rest_speed, gravity_speed, dt): (Real, Real, Real),
     ) -> Claim {
         let (bodies, rb1, rb2) = (context.bodies, context.rigid_body1, context.rigid_body2);
         let (c1, c2) = (context.collider1, context.collider2);
@@ -76,42 +77,36 @@ impl Claims {
             rb.map_or(Vector::ZERO, |rb| rb.velocity_at_point(point))
         };
         let relative = |point: Vector| velocity(body2, point) - velocity(body1, point);
-        let (mut sum, mut count, mut parting) = (Vector::ZERO, 0usize, true);
+        let (mut fastest, mut parting) = (Real::NEG_INFINITY, true);
+        let (mut strikes, mut strikes_near, mut held) = (false, false, false);
         for c in rigid.solver_contacts.iter() {
             let point = (c.anchor1 + c.anchor2) * 0.5;
             let approach = -relative(point).dot(n);
             parting &= approach < -rest_speed;
-            if approach > 0.0 {
-                sum += point;
-                count += 1;
+            fastest = fastest.max(approach);
+            if approach > rest_speed && approach.is_finite() {
+                strikes = true;
+                strikes_near |= c.dist <= 2.0 * (approach + gravity_speed) * dt;
             } else if c.dist <= 0.0 && approach > -rest_speed {
-                // Touching and not parting faster than the rest speed: a
-                // box rocking on a corner, a body sliding on a floor.
-                return Claim::Solver;
+                // Touching, resting or sliding: rapier's solver holds it.
+                held = true;
             }
         }
-        if count == 0 {
-            // Every contact parting faster than the rest speed (a die just
-            // bounced off a wall): the replay's, which looks out for its
-            // next corner striking within the step; rapier's solver would
-            // not see that corner come.
-            return if parting && !rigid.solver_contacts.is_empty() {
-                self.take(rigid, (c1, c2))
-            } else {
-                Claim::Resting
-            };
+        if strikes_near || (strikes && !held) || (parting && !rigid.solver_contacts.is_empty()) {
+            // Striking: the replay's. Every contact parting faster than the
+            // rest speed (a die just bounced off a wall): the replay's too,
+            // which looks out for its next corner striking within the step;
+            // rapier's solver would not see that corner come.
+            return self.take(rigid, (c1, c2));
         }
-        let approach = -relative(sum / count as Real).dot(n);
-        if !(approach > rest_speed && approach.is_finite()) {
-            // The rigid path measures the approach again by the law's own
-            // arithmetic: near the rest speed, it decides.
-            return if approach <= RESTING_SHARE * rest_speed {
-                Claim::Resting
-            } else {
-                Claim::Solver
-            };
+        // The rigid path measures the approach again by the law's own
+        // arithmetic: near the rest speed, or for a striking contact too far
+        // to touch within the step beside a held one, it decides.
+        if fastest > RESTING_SHARE * rest_speed {
+            Claim::Solver
+        } else {
+            Claim::Resting
         }
-        self.take(rigid, (c1, c2))
     }
 
     /// Clear the solver contacts of pair `(c1, c2)` and list it for the

@@ -363,14 +363,16 @@ impl RigidReplay {
             }
             let bent = match self.impact(input, out, bodies, colliders, i, t) {
                 Ok(bent) => bent,
-                // Touching without closing (or not for the law): idle until
-                // either body's path changes; a parting touch, unless the
-                // pair meets again within the step (a spinning die's next
-                // corner), which counts towards the cap.
+                // Idle until either body's path changes, unless the pair
+                // meets again within the step, which counts towards the
+                // cap: after a parting touch, a spinning die's next corner;
+                // after a touch that rests or slides (or is not for the
+                // law), another contact striking (a rocking box's other
+                // corner).
                 Err(idle) => {
                     let again = match idle {
                         Idle::Parting => self.reentry(input, colliders, i, t),
-                        Idle::Other => None,
+                        Idle::Other => self.strikes_later(input, colliders, i, t),
                     };
                     events += usize::from(again.is_some());
                     self.queue.set(i, again);

@@ -26,49 +26,39 @@ pub(crate) struct Placed<'a> {
 }
 
 /// The patch of `a` and `b`: of the manifold holding the deepest contact
-/// whose material points close (`closes(point, normal)`), the centroid of
-/// its closing contacts within `depth` of that one. Contacts are looked for
-/// up to `reach` apart. `None` when no contact closes. `manifolds` is
-/// scratch.
+/// that strikes (whose material points close, `approach(point, normal)`,
+/// faster than `strike_speed`), the centroid of its closing contacts
+/// (approach above zero) within `depth` of that one, above or below. A
+/// contact resting or sliding deeper (a box pivoting on a corner as its
+/// other corner lands) is not in the patch. Contacts are looked for up to
+/// `reach` apart. `None` when no contact strikes. `manifolds` is scratch.
 pub(crate) fn patch(
     a: Placed,
     b: Placed,
-    reach: Real,
-    depth: Real,
-    closes: impl Fn(Vector, Vector) -> bool,
+    (reach, depth): (Real, Real),
+    strike_speed: Real,
+    approach: impl Fn(Vector, Vector) -> Real,
     manifolds: &mut Vec<ContactManifold<(), ()>>,
 ) -> Option<Patch> {
     let (pa, pb) = (&a.pose, &b.pose);
     let (a, b) = (a.shape, b.shape);
     manifolds_at(a, pa, b, pb, reach, manifolds);
-    let frame = |m: &ContactManifold<(), ()>| world_frame(m, pa, pb);
-    let mut best: Option<(usize, Real)> = None;
-    for (i, m) in manifolds.iter().enumerate() {
-        let (p1, p2, n) = frame(m);
-        for c in &m.points {
-            let point = (p1 * c.local_p1 + p2 * c.local_p2) * 0.5;
-            // (parry may list a face's contacts beyond the prediction.)
-            if c.dist <= reach && c.dist < best.map_or(Real::INFINITY, |b| b.1) && closes(point, n)
-            {
-                best = Some((i, c.dist));
-            }
-        }
-    }
-    let Some((i, deepest)) = best else {
+    let strikes = |p, n| approach(p, n) > strike_speed;
+    let Some((i, deepest)) = deepest_striking(manifolds, (pa, pb), reach, strikes) else {
         let listed = manifolds
             .iter()
             .any(|m| m.points.iter().any(|c| c.dist <= reach));
         if listed {
             return None;
         }
-        return single_contact(a, pa, b, pb, reach, closes);
+        return single_contact(a, pa, b, pb, reach, strikes);
     };
     let m = &manifolds[i];
-    let (p1, p2, n) = frame(m);
+    let (p1, p2, n) = world_frame(m, pa, pb);
     let (mut sum, mut count) = (Vector::ZERO, 0usize);
     for c in &m.points {
         let point = (p1 * c.local_p1 + p2 * c.local_p2) * 0.5;
-        if c.dist <= reach.min(deepest + depth) && closes(point, n) {
+        if c.dist <= reach && (c.dist - deepest).abs() <= depth && approach(point, n) > 0.0 {
             sum += point;
             count += 1;
         }
@@ -77,6 +67,30 @@ pub(crate) fn patch(
         point: sum / count as Real,
         normal: n,
     })
+}
+
+/// Of the contacts `manifolds` (of two shapes at `pa` and `pb`) list within
+/// `reach`, the deepest that `strikes(point, normal)`: its manifold's index
+/// and its distance.
+pub(crate) fn deepest_striking(
+    manifolds: &[ContactManifold<(), ()>],
+    (pa, pb): (&Pose, &Pose),
+    reach: Real,
+    strikes: impl Fn(Vector, Vector) -> bool,
+) -> Option<(usize, Real)> {
+    let mut best: Option<(usize, Real)> = None;
+    for (i, m) in manifolds.iter().enumerate() {
+        let (p1, p2, n) = world_frame(m, pa, pb);
+        for c in &m.points {
+            let point = (p1 * c.local_p1 + p2 * c.local_p2) * 0.5;
+            // (parry may list a face's contacts beyond the prediction.)
+            if c.dist <= reach && c.dist < best.map_or(Real::INFINITY, |b| b.1) && strikes(point, n)
+            {
+                best = Some((i, c.dist));
+            }
+        }
+    }
+    best
 }
 
 /// The world frame of manifold `m` of two shapes at `pa` and `pb`: the

@@ -5,12 +5,12 @@ use kimpact::Contact;
 
 use crate::body_view::{dominated, law_body};
 use crate::events::{AppliedBy, Outcome};
-use crate::math::{Real, Vector, from_law, to_law};
+use crate::math::{Pose, Real, Vector, from_law, to_law};
 use crate::rapier::parry::query::ContactManifold;
 use crate::rapier::prelude::*;
 
 use super::motion::from_law_angular;
-use super::patch::{all_part, patch};
+use super::patch::{all_part, deepest_striking, patch};
 use super::toi::{Mover, closing_bound, gap, last_apart, manifolds_at};
 use super::{Key, PATCH_TOLERANCES, REST_FLOOR, RigidInput, RigidReplay};
 use crate::replay::ReplayOutput;
@@ -24,7 +24,8 @@ pub(super) enum Idle {
     /// within the step ([`RigidReplay::reentry`]).
     Parting,
     /// Anything else: resting or sliding, a body the law does not take,
-    /// data that cannot enter it.
+    /// data that cannot enter it. Another contact may strike within the
+    /// step ([`RigidReplay::strikes_later`]).
     Other,
 }
 
@@ -128,6 +129,34 @@ impl RigidReplay {
         })
     }
 
+    /// For pair `i`, idle at `t` as [`Idle::Other`] (touching without
+    /// striking: a box pivoting on one corner, or sliding): an instant in
+    /// `(t, dt]` at which another of its contacts strikes (closes faster
+    /// than the rest speed), if one overlaps at the step's end by more than
+    /// [`reentry_depth`] and none does at `t`: the box's other corner
+    /// landing, which the search from `t` does not see past the touch it
+    /// starts from.
+    pub(super) fn strikes_later(
+        &mut self,
+        input: &RigidInput,
+        colliders: &ColliderSet,
+        i: usize,
+        t: Real,
+    ) -> Option<Real> {
+        let (dt, rest_speed) = (input.frame.dt, input.frame.rest_speed);
+        let pair = self.pairs[i];
+        let (na, nb) = (self.nodes[pair.a], self.nodes[pair.b]);
+        let strikes = |s: Real| {
+            move |point: Vector, n: Vector| {
+                let w = nb.point_velocity(point, s, dt) - na.point_velocity(point, s, dt);
+                -w.dot(n) > rest_speed
+            }
+        };
+        self.on_movers(colliders, i, |a, b, tolerance, manifolds| {
+            strikes_again(a, b, (t, dt), tolerance, strikes, manifolds)
+        })
+    }
+
     /// The centroid and normal of pair `i`'s contact patch at time `t`, if
     /// its material points there close faster than the rest speed (and a
     /// floor relative to the bodies' speeds); else whether it parts.
@@ -157,15 +186,8 @@ impl RigidReplay {
         let depth = PATCH_TOLERANCES * tolerance;
         let (pa, pb) = (a.placed_at(t), b.placed_at(t));
         let reach = tolerance + depth;
-        let found = patch(
-            pa,
-            pb,
-            reach,
-            depth,
-            |p, n| approach(p, n) > 0.0,
-            &mut manifolds,
-        );
         let rest_speed = input.frame.rest_speed;
+        let found = patch(pa, pb, (reach, depth), rest_speed, approach, &mut manifolds);
         let parting = found.is_none()
             && all_part(&manifolds, (&pa.pose, &pb.pose), reach, |p, n| {
                 approach(p, n) < -rest_speed
@@ -201,16 +223,61 @@ fn meets_again(
     tolerance: Real,
     manifolds: &mut Vec<ContactManifold<(), ()>>,
 ) -> Option<Real> {
+    let depth = reentry_depth(a, b, tolerance);
+    first_overlap(a, b, (t, dt), tolerance, manifolds, |_, manifolds, _| {
+        gap(manifolds).is_some_and(|d| d < -depth)
+    })
+}
+
+/// [`RigidReplay::strikes_later`] of `a` and `b` over `(t, dt]`: if a
+/// contact that strikes (`strikes(s)(point, normal)` at time `s`) overlaps
+/// at the step's end by more than [`reentry_depth`], bisection for the
+/// last instant none does. A contact resting or sliding at `t` may sink
+/// meanwhile: it does not strike.
+fn strikes_again<F: Fn(Vector, Vector) -> bool>(
+    a: &Mover,
+    b: &Mover,
+    (t, dt): (Real, Real),
+    tolerance: Real,
+    strikes: impl Fn(Real) -> F,
+    manifolds: &mut Vec<ContactManifold<(), ()>>,
+) -> Option<Real> {
+    let depth = reentry_depth(a, b, tolerance);
+    let reach = tolerance + depth;
+    first_overlap(
+        a,
+        b,
+        (t, dt),
+        tolerance,
+        manifolds,
+        |s, manifolds, poses| {
+            deepest_striking(manifolds, poses, reach.max(0.0), strikes(s))
+                .is_some_and(|(_, d)| d < -depth)
+        },
+    )
+}
+
+/// The last instant in `(t, dt]` before `a` and `b` are `deep` (a test of
+/// their manifolds at an instant, and their poses then), if they are at
+/// `dt` and not at `t`: bisection, down to the time the pair needs to
+/// close `tolerance` at its closing bound.
+fn first_overlap(
+    a: &Mover,
+    b: &Mover,
+    (t, dt): (Real, Real),
+    tolerance: Real,
+    manifolds: &mut Vec<ContactManifold<(), ()>>,
+    deep: impl Fn(Real, &[ContactManifold<(), ()>], (&Pose, &Pose)) -> bool,
+) -> Option<Real> {
     if t >= dt || t.is_nan() {
         return None;
     }
-    let depth = reentry_depth(a, b, tolerance);
     let bound = closing_bound(a, b);
     let reach = bound * (dt - t) + tolerance;
     let mut overlaps = |s: Real| {
         let (pa, pb) = (a.pose_at(s), b.pose_at(s));
         manifolds_at(a.shape, &pa, b.shape, &pb, reach, manifolds);
-        gap(manifolds).is_some_and(|d| d < -depth)
+        deep(s, manifolds, (&pa, &pb))
     };
     if !overlaps(dt) || overlaps(t) {
         return None;

@@ -214,7 +214,7 @@ fn a_face_lands_at_its_centre_and_an_edge_at_its_midpoint() {
             (f64::from(t) - expected).abs() < tol(),
             "angle {angle}: t = {t} for {expected}"
         );
-        let closes = |_: Vector, _: Vector| true;
+        let approach = |_: Vector, _: Vector| 1.0;
         let found = patch(
             Placed {
                 shape: &cube,
@@ -224,9 +224,9 @@ fn a_face_lands_at_its_centre_and_an_edge_at_its_midpoint() {
                 shape: &floor,
                 pose: b.pose_at(t),
             },
-            1e-4,
-            1e-6,
-            closes,
+            (1e-4, 1e-6),
+            0.0,
+            approach,
             &mut manifolds,
         )
         .expect("a patch");
