@@ -131,7 +131,11 @@ struct Node {
     g_half: Vector,
     /// Its world inverse inertia at the end of rapier's step.
     inverse_inertia: kimpact::InverseInertia<Real, { crate::math::DIM }>,
+    /// An impact bent its path.
     hit: bool,
+    /// Its path does not end where rapier's step left it (a CCD stop the
+    /// replay looks past): its end is written back even without an impact.
+    off_rapier: bool,
 }
 
 impl Node {
@@ -321,7 +325,7 @@ impl RigidReplay {
         for n in 0..self.nodes.len() {
             let node = &self.nodes[n];
             let Key::Body(h) = node.key else { continue };
-            if !node.hit {
+            if !(node.hit || node.off_rapier) {
                 continue;
             }
             let pose = node.motion.pose_at(dt);
@@ -372,7 +376,8 @@ impl RigidReplay {
                 Err(idle) => {
                     let again = match idle {
                         Idle::Parting => self.reentry(input, colliders, i, t),
-                        Idle::Other => self.strikes_later(input, colliders, i, t),
+                        Idle::Held => self.strikes_later(input, colliders, i, t),
+                        Idle::Other => None,
                     };
                     events += usize::from(again.is_some());
                     self.queue.set(i, again);

@@ -55,6 +55,7 @@ impl RigidReplay {
                 g_half: Vector::ZERO,
                 inverse_inertia: Default::default(),
                 hit: false,
+                off_rapier: false,
             },
             Key::Body(h) => {
                 let rb = bodies.get(h)?;
@@ -103,15 +104,31 @@ impl RigidReplay {
             pose.translation = translation;
             Some(pose)
         });
-        let motion = match start {
-            Some(start) => Motion::between(start, end, com, rb.angvel(), dt),
-            None => back,
-        };
         let falls = rb.is_dynamic() && !translations_locked(rb);
         let g = if falls {
             input.frame.gravity * rb.gravity_scale()
         } else {
             Vector::ZERO
+        };
+        let g_half = g * input.frame.half_substep(rb);
+        let looks_past_ccd = rb.is_ccd_active() && start.is_some();
+        let motion = match start {
+            // rapier's CCD stops a fast body short at a fixed collider
+            // (every fast body sweeps those), without a response: its
+            // chord then ends at rapier's time of impact, slower than the
+            // body, and the law would meet that collider late (as the
+            // ball replay, `moving_node`). Its path is its velocities'
+            // from its start: the chord rapier's substeps give a free
+            // body, `v − g dt/2 + g h/2`, turning at its angular velocity.
+            Some(start) if rb.is_ccd_active() => Motion {
+                pose: start,
+                local_com: com,
+                linvel: rb.linvel() - g * (0.5 * dt) + g_half,
+                angvel: rb.angvel(),
+                t_ref: 0.0,
+            },
+            Some(start) => Motion::between(start, end, com, rb.angvel(), dt),
+            None => back,
         };
         Node {
             key: Key::Body(h),
@@ -120,9 +137,12 @@ impl RigidReplay {
             u: rb.linvel(),
             omega: rb.angvel(),
             g_dt: g * dt,
-            g_half: g * input.frame.half_substep(rb),
+            g_half,
             inverse_inertia: inverse_inertia(rb),
             hit: false,
+            // Exact mode sweeps every moving rigid body along its path:
+            // what rapier's CCD stopped it for, the replay has met.
+            off_rapier: looks_past_ccd && input.policy.rigid_sweep == RigidSweep::Every,
         }
     }
 

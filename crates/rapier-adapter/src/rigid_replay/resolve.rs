@@ -23,9 +23,13 @@ pub(super) enum Idle {
     /// turning body grazes it, two edges pass): another feature may strike
     /// within the step ([`RigidReplay::reentry`]).
     Parting,
+    /// No contact strikes at the touch, and its manifold lists one farther
+    /// off that would (a box pivoting on one corner as its other corner
+    /// comes down): that one may strike within the step
+    /// ([`RigidReplay::strikes_later`]).
+    Held,
     /// Anything else: resting or sliding, a body the law does not take,
-    /// data that cannot enter it. Another contact may strike within the
-    /// step ([`RigidReplay::strikes_later`]).
+    /// data that cannot enter it.
     Other,
 }
 
@@ -129,8 +133,8 @@ impl RigidReplay {
         })
     }
 
-    /// For pair `i`, idle at `t` as [`Idle::Other`] (touching without
-    /// striking: a box pivoting on one corner, or sliding): an instant in
+    /// For pair `i`, idle at `t` as [`Idle::Held`] (touching without
+    /// striking: a box pivoting on one corner): an instant in
     /// `(t, dt]` at which another of its contacts strikes (closes faster
     /// than the rest speed), if one overlaps at the step's end by more than
     /// [`reentry_depth`] and none does at `t`: the box's other corner
@@ -188,13 +192,25 @@ impl RigidReplay {
         let reach = tolerance + depth;
         let rest_speed = input.frame.rest_speed;
         let found = patch(pa, pb, (reach, depth), rest_speed, approach, &mut manifolds);
-        let parting = found.is_none()
-            && all_part(&manifolds, (&pa.pose, &pb.pose), reach, |p, n| {
-                approach(p, n) < -rest_speed
-            });
+        let poses = (&pa.pose, &pb.pose);
+        let idle = if found.is_some() {
+            Idle::Other
+        } else if all_part(&manifolds, poses, reach, |p, n| {
+            approach(p, n) < -rest_speed
+        }) {
+            Idle::Parting
+        } else if deepest_striking(&manifolds, poses, Real::INFINITY, |p, n| {
+            approach(p, n) > rest_speed
+        })
+        .is_some()
+        {
+            Idle::Held
+        } else {
+            Idle::Other
+        };
         self.manifolds = manifolds;
         let Some(found) = found else {
-            return Err(if parting { Idle::Parting } else { Idle::Other });
+            return Err(idle);
         };
         let (point, n) = (found.point, found.normal);
         let (ua, ub) = (
@@ -211,11 +227,12 @@ impl RigidReplay {
 }
 
 /// [`RigidReplay::reentry`] of `a` and `b` over `(t, dt]`: if they
-/// overlap at the step's end by more than [`reentry_depth`], bisection
-/// for the last instant they overlap by less. The parting touch at `t`
-/// is within a tolerance or so of zero (parry's clipping moves its
-/// contact's distance by a few tolerances as the bodies turn): the depth
-/// keeps the bisection off it, and the impact is met that deep.
+/// overlap at the step's end by more than [`reentry_depth`] beyond twice
+/// their overlap at `t` (none, or the little a touching pair has),
+/// bisection for the last instant they overlap by less. The parting touch at `t` is
+/// within a tolerance or so of zero (parry's clipping moves its contact's
+/// distance by a few tolerances as the bodies turn): the depth keeps the
+/// bisection off it, and the impact is met that deep.
 fn meets_again(
     a: &Mover,
     b: &Mover,
@@ -223,17 +240,16 @@ fn meets_again(
     tolerance: Real,
     manifolds: &mut Vec<ContactManifold<(), ()>>,
 ) -> Option<Real> {
-    let depth = reentry_depth(a, b, tolerance);
     first_overlap(a, b, (t, dt), tolerance, manifolds, |_, manifolds, _| {
-        gap(manifolds).is_some_and(|d| d < -depth)
+        gap(manifolds)
     })
 }
 
 /// [`RigidReplay::strikes_later`] of `a` and `b` over `(t, dt]`: if a
 /// contact that strikes (`strikes(s)(point, normal)` at time `s`) overlaps
-/// at the step's end by more than [`reentry_depth`], bisection for the
-/// last instant none does. A contact resting or sliding at `t` may sink
-/// meanwhile: it does not strike.
+/// at the step's end by more than [`reentry_depth`] beyond twice the
+/// deepest one at `t`, bisection for the last instant none does. A contact
+/// resting or sliding at `t` may sink meanwhile: it does not strike.
 fn strikes_again<F: Fn(Vector, Vector) -> bool>(
     a: &Mover,
     b: &Mover,
@@ -242,8 +258,7 @@ fn strikes_again<F: Fn(Vector, Vector) -> bool>(
     strikes: impl Fn(Real) -> F,
     manifolds: &mut Vec<ContactManifold<(), ()>>,
 ) -> Option<Real> {
-    let depth = reentry_depth(a, b, tolerance);
-    let reach = tolerance + depth;
+    let reach = tolerance + reentry_depth(a, b, tolerance);
     first_overlap(
         a,
         b,
@@ -251,35 +266,41 @@ fn strikes_again<F: Fn(Vector, Vector) -> bool>(
         tolerance,
         manifolds,
         |s, manifolds, poses| {
-            deepest_striking(manifolds, poses, reach.max(0.0), strikes(s))
-                .is_some_and(|(_, d)| d < -depth)
+            deepest_striking(manifolds, poses, reach.max(0.0), strikes(s)).map(|(_, d)| d)
         },
     )
 }
 
-/// The last instant in `(t, dt]` before `a` and `b` are `deep` (a test of
-/// their manifolds at an instant, and their poses then), if they are at
-/// `dt` and not at `t`: bisection, down to the time the pair needs to
-/// close `tolerance` at its closing bound.
+/// The last instant in `(t, dt]` before `a` and `b` overlap by more than
+/// [`reentry_depth`] beyond twice their overlap at `t`, as `depth_at` measures
+/// it (a distance, negative overlapping, from their manifolds at an
+/// instant and their poses then; `None`: no contact), if they do at `dt`:
+/// bisection, down to the time the pair needs to close `tolerance` at its
+/// closing bound.
 fn first_overlap(
     a: &Mover,
     b: &Mover,
     (t, dt): (Real, Real),
     tolerance: Real,
     manifolds: &mut Vec<ContactManifold<(), ()>>,
-    deep: impl Fn(Real, &[ContactManifold<(), ()>], (&Pose, &Pose)) -> bool,
+    depth_at: impl Fn(Real, &[ContactManifold<(), ()>], (&Pose, &Pose)) -> Option<Real>,
 ) -> Option<Real> {
     if t >= dt || t.is_nan() {
         return None;
     }
     let bound = closing_bound(a, b);
     let reach = bound * (dt - t) + tolerance;
-    let mut overlaps = |s: Real| {
+    let mut measure = |s: Real| {
         let (pa, pb) = (a.pose_at(s), b.pose_at(s));
         manifolds_at(a.shape, &pa, b.shape, &pb, reach, manifolds);
-        deep(s, manifolds, (&pa, &pb))
+        depth_at(s, manifolds, (&pa, &pb))
     };
-    if !overlaps(dt) || overlaps(t) {
+    // Twice the overlap at `t`: a pair whose overlap creeps (parry's
+    // clipped points sliding as two faces turn) meets again only as often
+    // as its overlap doubles.
+    let below = 2.0 * measure(t).map_or(0.0, |d| d.min(0.0)) - reentry_depth(a, b, tolerance);
+    let mut overlaps = |s: Real| measure(s).is_some_and(|d| d < below);
+    if !overlaps(dt) {
         return None;
     }
     let lo = last_apart(t, dt, bound, tolerance, |s| !overlaps(s));
