@@ -101,8 +101,8 @@ fn a_capsule_landing_in_a_heightfield_valley_never_gains_energy() {
 /// orientations, velocities and spins, elastic, in a closed box without
 /// gravity, rapier's default sleeping, exact mode: the kinetic energy
 /// (translation and rotation) is kept to 1e-9 over `steps` steps, every
-/// die stays in the box, and after the first ten steps no overlap is
-/// deeper than 3 mm. Cubes turn freely at a constant angular velocity
+/// die stays in the box, and after the first 30 steps no overlap is
+/// deeper than 1 mm. Cubes turn freely at a constant angular velocity
 /// (their inertia is the same about every axis), so every change of energy
 /// would be an impact's. The dice may turn faster than rapier's cap of π/4
 /// per step (`RigidBody::set_allow_fast_rotation`), which would otherwise
@@ -160,8 +160,8 @@ fn dice_check(steps: usize, seed: u64) {
         );
         // The deepest overlap rapier's narrow phase meets (at the start of
         // the step), once the dice placed overlapping on the grid have
-        // parted.
-        if step > 10 {
+        // parted (by step 16 in seeds 1 to 24).
+        if step > 30 {
             for cp in w.world.narrow_phase.contact_pairs() {
                 for m in cp.manifolds() {
                     for p in &m.points {
@@ -181,8 +181,9 @@ fn dice_check(steps: usize, seed: u64) {
     );
     assert!(inside, "a die left the box");
     // The impacts are met at their times: no die sinks into another or a
-    // wall by more than 1% of the smallest die's side (0.3).
-    assert!(deepest > -3e-3, "seed {seed}: an overlap of {deepest}");
+    // wall by more than 1 mm (a third of a percent of the smallest die's
+    // side, 0.3).
+    assert!(deepest > -1e-3, "seed {seed}: an overlap of {deepest}");
 }
 
 /// Exact mode keeps the dice's energy over a few hundred steps in every

@@ -111,24 +111,26 @@ impl RigidReplay {
             Vector::ZERO
         };
         let g_half = g * input.frame.half_substep(rb);
-        let looks_past_ccd = rb.is_ccd_active() && start.is_some();
-        let motion = match start {
-            // rapier's CCD stops a fast body short at a fixed collider
-            // (every fast body sweeps those), without a response: its
-            // chord then ends at rapier's time of impact, slower than the
-            // body, and the law would meet that collider late (as the
-            // ball replay, `moving_node`). Its path is its velocities'
-            // from its start: the chord rapier's substeps give a free
-            // body, `v − g dt/2 + g h/2`, turning at its angular velocity.
-            Some(start) if rb.is_ccd_active() => Motion {
+        // rapier's CCD stops a fast body short at a fixed collider (every
+        // fast body sweeps those), without a response: its chord then ends
+        // at rapier's time of impact, slower than the body, and the law
+        // would meet that collider late (as the ball replay,
+        // `moving_node`). Such a body's path is its velocities' from its
+        // start: the chord rapier's substeps give a free body,
+        // `v − g dt/2 + g h/2`, turning at its angular velocity.
+        let chord = rb.linvel() - g * (0.5 * dt) + g_half;
+        let stopped = start
+            .filter(|start| rb.is_ccd_active() && cut_short(end * com - *start * com, chord * dt));
+        let motion = match (stopped, start) {
+            (Some(start), _) => Motion {
                 pose: start,
                 local_com: com,
-                linvel: rb.linvel() - g * (0.5 * dt) + g_half,
+                linvel: chord,
                 angvel: rb.angvel(),
                 t_ref: 0.0,
             },
-            Some(start) => Motion::between(start, end, com, rb.angvel(), dt),
-            None => back,
+            (None, Some(start)) => Motion::between(start, end, com, rb.angvel(), dt),
+            (None, None) => back,
         };
         Node {
             key: Key::Body(h),
@@ -142,7 +144,7 @@ impl RigidReplay {
             hit: false,
             // Exact mode sweeps every moving rigid body along its path:
             // what rapier's CCD stopped it for, the replay has met.
-            off_rapier: looks_past_ccd && input.policy.rigid_sweep == RigidSweep::Every,
+            off_rapier: stopped.is_some() && input.policy.rigid_sweep == RigidSweep::Every,
         }
     }
 
@@ -477,4 +479,18 @@ fn pair_tolerance(colliders: &ColliderSet, c1: ColliderHandle, c2: ColliderHandl
         })
     };
     toi_share() * radius(c1).min(radius(c2))
+}
+
+/// Whether a body that moved by `moved` over the step, and would have
+/// moved by `free` in free flight, was stopped short on its way: moved
+/// along `free` (to a thousandth of its length) by less of it. A body
+/// whose velocity rapier's solver changed moves off that line.
+fn cut_short(moved: Vector, free: Vector) -> bool {
+    let length2 = free.length_squared();
+    if !(length2 > 0.0) {
+        return false;
+    }
+    let share = moved.dot(free) / length2;
+    let off = (moved - free * share).length_squared();
+    share < 1.0 - 1e-3 && off <= 1e-6 * length2
 }
