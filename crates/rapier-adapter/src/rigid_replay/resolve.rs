@@ -289,7 +289,9 @@ fn first_overlap(
         return None;
     }
     let bound = closing_bound(a, b);
-    let reach = bound * (dt - t) + tolerance;
+    // Only overlaps count: the manifolds need list no contact farther
+    // apart than the tolerance (parry stops at the separating axis then).
+    let reach = tolerance.max(0.0);
     let mut measure = |s: Real| {
         let (pa, pb) = (a.pose_at(s), b.pose_at(s));
         manifolds_at(a.shape, &pa, b.shape, &pb, reach, manifolds);
