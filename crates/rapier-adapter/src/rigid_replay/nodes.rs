@@ -487,7 +487,7 @@ fn pair_tolerance(colliders: &ColliderSet, c1: ColliderHandle, c2: ColliderHandl
 /// whose velocity rapier's solver changed moves off that line.
 fn cut_short(moved: Vector, free: Vector) -> bool {
     let length2 = free.length_squared();
-    if !(length2 > 0.0) {
+    if length2.is_nan() || length2 <= 0.0 {
         return false;
     }
     let share = moved.dot(free) / length2;
