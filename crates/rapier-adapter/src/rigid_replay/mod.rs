@@ -370,9 +370,8 @@ impl RigidReplay {
                 // Idle until either body's path changes, unless the pair
                 // meets again within the step, which counts towards the
                 // cap: after a parting touch, a spinning die's next corner;
-                // after a touch that rests or slides (or is not for the
-                // law), another contact striking (a rocking box's other
-                // corner).
+                // after a held one, the contact its manifold lists striking
+                // from farther (a rocking box's other corner).
                 Err(idle) => {
                     let again = match idle {
                         Idle::Parting => self.reentry(input, colliders, i, t),

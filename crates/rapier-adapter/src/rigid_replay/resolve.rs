@@ -114,7 +114,8 @@ impl RigidReplay {
 
     /// For pair `i`, idle at `t` as [`Idle::Parting`]: an instant in
     /// `(t, dt]` at which it meets again, if it overlaps at the step's end
-    /// by more than [`reentry_depth`] and did not at `t`. A body turning
+    /// by more than [`reentry_depth`] beyond twice its overlap at `t`
+    /// ([`meets_again`]). A body turning
     /// fast brings another corner into the partner its last one just left,
     /// which the search from `t` does not see past the parting touch it
     /// starts from. Bisection for the last instant before that overlap, as
@@ -137,7 +138,8 @@ impl RigidReplay {
     /// striking: a box pivoting on one corner): an instant in
     /// `(t, dt]` at which another of its contacts strikes (closes faster
     /// than the rest speed), if one overlaps at the step's end by more than
-    /// [`reentry_depth`] and none does at `t`: the box's other corner
+    /// [`reentry_depth`] beyond twice the deepest at `t`
+    /// ([`strikes_again`]): the box's other corner
     /// landing, which the search from `t` does not see past the touch it
     /// starts from.
     pub(super) fn strikes_later(
