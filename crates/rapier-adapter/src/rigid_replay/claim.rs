@@ -43,10 +43,10 @@ impl Claims {
     /// gravity adding `gravity_speed` to its approach; twice that reach,
     /// for a turning body's corner). Farther, the pair stays rapier's
     /// solver's this step, which holds the touching contact the replay
-    /// would leave unheld. A pair whose every contact parts
-    /// faster than `rest_speed` is claimed too: the replay looks out for
-    /// another of its features striking within the step, which rapier's
-    /// contacts do not list. A claimed pair's solver contacts are cleared:
+    /// would leave unheld. A pair whose every contact parts faster than
+    /// `rest_speed` is claimed too: the replay looks out for another of its
+    /// features striking within the step, which rapier's contacts do not
+    /// list. A claimed pair's solver contacts are cleared:
     /// rapier's solver leaves it alone and the replay resolves it after the
     /// step. A pair not claimed is either resting (no contact closes clearly
     /// faster than `rest_speed`: the hook's rigid path would not bounce it,
