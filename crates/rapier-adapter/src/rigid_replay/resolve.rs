@@ -231,10 +231,10 @@ impl RigidReplay {
 /// [`RigidReplay::reentry`] of `a` and `b` over `(t, dt]`: if they
 /// overlap at the step's end by more than [`reentry_depth`] beyond twice
 /// their overlap at `t` (none, or the little a touching pair has),
-/// bisection for the last instant they overlap by less. The parting touch at `t` is
-/// within a tolerance or so of zero (parry's clipping moves its contact's
-/// distance by a few tolerances as the bodies turn): the depth keeps the
-/// bisection off it, and the impact is met that deep.
+/// bisection for the last instant they overlap by less. The parting
+/// touch at `t` is within a tolerance or so of zero (parry's clipping
+/// moves its contact's distance by a few tolerances as the bodies turn):
+/// the depth keeps the bisection off it, and the impact is met that deep.
 fn meets_again(
     a: &Mover,
     b: &Mover,
@@ -299,14 +299,21 @@ fn first_overlap(
         manifolds_at(a.shape, &pa, b.shape, &pb, reach, manifolds);
         depth_at(s, manifolds, (&pa, &pb))
     };
+    // The step's end first: most pairs do not overlap there by even the
+    // least depth looked for, and need no look at `t`.
+    let depth = reentry_depth(a, b, tolerance);
+    let at_dt = measure(dt);
+    if !at_dt.is_some_and(|d| d < -depth) {
+        return None;
+    }
     // Twice the overlap at `t`: a pair whose overlap creeps (parry's
     // clipped points sliding as two faces turn) meets again only as often
     // as its overlap doubles.
-    let below = 2.0 * measure(t).map_or(0.0, |d| d.min(0.0)) - reentry_depth(a, b, tolerance);
-    let mut overlaps = |s: Real| measure(s).is_some_and(|d| d < below);
-    if !overlaps(dt) {
+    let below = 2.0 * measure(t).map_or(0.0, |d| d.min(0.0)) - depth;
+    if !at_dt.is_some_and(|d| d < below) {
         return None;
     }
+    let mut overlaps = |s: Real| measure(s).is_some_and(|d| d < below);
     let lo = last_apart(t, dt, bound, tolerance, |s| !overlaps(s));
     (lo > t).then_some(lo)
 }
