@@ -70,6 +70,10 @@ pub(crate) struct Frame<'a> {
     pub gravity: Vector,
     pub dt: Real,
     pub prediction: Real,
+    /// The velocity of the frame the world shares this step
+    /// ([`StepFrame::shared`](crate::frame::StepFrame::shared)), zero
+    /// without one: the reach boxes sweep the motion against it.
+    pub shared: Vector,
 }
 
 /// What a try found.
@@ -509,7 +513,9 @@ fn finite(b: Aabb) -> Option<Aabb> {
 
 /// Everywhere collider `co` with contact box `b` can reach this step: the
 /// box grown by how far its farthest point turns (`turn` radians about
-/// `com`), and swept along `path * dt`. A ball is the same shape however it
+/// `com`), and swept along `path * dt` in the frame the world shares (so
+/// that in a world falling as a whole the boxes are as short as the
+/// bodies' motion against each other). A ball is the same shape however it
 /// turns: only its centre moves, so a spinning ball centred on `com` reaches
 /// no farther than a still one. `None` if not finite.
 fn reach(co: &Collider, b: Aabb, com: Vector, path: Vector, turn: Real, f: &Frame) -> Option<Aabb> {
@@ -520,7 +526,7 @@ fn reach(co: &Collider, b: Aabb, com: Vector, path: Vector, turn: Real, f: &Fram
         centre + 0.5 * (b.maxs - b.mins).length()
     };
     let b = b.loosened(turn.min(2.0) * arm);
-    let shift = path * f.dt;
+    let shift = (path - f.shared) * f.dt;
     let moved = Aabb::new(b.mins + shift, b.maxs + shift);
     let swept = b.merged(&moved);
     finite(swept)

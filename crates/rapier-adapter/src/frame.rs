@@ -71,4 +71,18 @@ impl StepFrame {
             None => v,
         }
     }
+
+    /// How far the shared frame ([`StepFrame::shared`]) moves in `time`
+    /// (zero without one). A swept box is built in the frame where it is at
+    /// the step's end, as rapier's broad phase holds every other box: a
+    /// point at `x` at time `t` is at `x + lag(dt − t)` there, so a body
+    /// moving with the frame sweeps a box no longer than its own motion
+    /// against it, however fast the world falls.
+    #[inline]
+    pub(crate) fn lag(&self, time: Real) -> Vector {
+        match self.shared {
+            Some(w) => w * time,
+            None => Vector::ZERO,
+        }
+    }
 }

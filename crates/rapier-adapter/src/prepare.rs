@@ -609,6 +609,7 @@ impl Pass<'_, '_> {
                     dt,
                     prediction,
                     rest_speed,
+                    shared,
                     ..
                 },
             marks,
@@ -627,6 +628,7 @@ impl Pass<'_, '_> {
                 gravity,
                 dt,
                 prediction,
+                shared: shared.unwrap_or(Vector::ZERO),
             };
             for handle in islands.active_bodies() {
                 let Some(rb) = bodies.get(handle) else {

@@ -170,10 +170,17 @@ impl Node {
     }
 
     /// The box a ball riding the node's path sweeps from `from` to `to`:
-    /// its centre (`ball.1` off the path) ± its radius `ball.0`, as parry's.
-    pub(super) fn swept_ball(&self, (radius, offset): BallOnPath, from: Real, to: Real) -> Aabb {
+    /// its centre (`ball.1` off the path) ± its radius `ball.0`, as parry's,
+    /// with the start moved by `lag` (how far the sweeps' frame moves from
+    /// `from` to `to`: see [`StepFrame::lag`](crate::frame::StepFrame::lag)).
+    pub(super) fn swept_ball(
+        &self,
+        (radius, offset): BallOnPath,
+        (from, to): (Real, Real),
+        lag: Vector,
+    ) -> Aabb {
         let r = Vector::splat(radius);
-        let (start, end) = (self.at(from) + offset, self.at(to) + offset);
+        let (start, end) = (self.at(from) + offset + lag, self.at(to) + offset);
         Aabb::new(start.min(end) - r, start.max(end) + r)
     }
 

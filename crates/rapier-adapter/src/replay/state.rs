@@ -87,6 +87,10 @@ pub(crate) struct Replay {
     /// Runs that swept in bulk (for the unit tests).
     #[cfg(test)]
     pub(crate) bulk_sweeps: u64,
+    /// Overlaps of swept boxes the bulk sweeps found, with each other and
+    /// with rapier's leaves (for the unit tests: what the join paid).
+    #[cfg(test)]
+    pub(crate) swept_overlaps: u64,
     #[cfg(feature = "parallel")]
     pub(super) par: ParScratch,
 }

@@ -72,7 +72,9 @@ impl Replay {
     }
 
     /// The box collider `ch` of node `n` sweeps from `from` to the end of the
-    /// step, if it moves far enough over that time to be swept (more than
+    /// step (in the frame the world shares, if it does, where the frame is
+    /// at the step's end: [`StepFrame::lag`](crate::frame::StepFrame::lag)),
+    /// if it moves far enough over that time to be swept (more than
     /// half its size, or more than `sweep_reach`, `fall_reach` if it moves
     /// along gravity); with it, the collider's
     /// radius and centre offset if it is a ball (as [`Replay::ball`]).
@@ -98,12 +100,14 @@ impl Replay {
             run.reach.sweep
         };
         let far_enough = |half: Real| moved.length() > half.min(reach);
+        // The box in the frame where it is at the step's end (`lag`).
+        let lag = frame.lag(dt - from);
         let (swept, ball) = match known {
             Some(ball) => {
                 if !far_enough(ball.0) {
                     return None;
                 }
-                (node.swept_ball(ball, from, dt), known)
+                (node.swept_ball(ball, (from, dt), lag), known)
             }
             None => {
                 let co = run.colliders.get(ch)?;
@@ -117,11 +121,14 @@ impl Replay {
                 match ball {
                     Some(ball) => {
                         let ball = (ball.radius, rest.translation - node.x1);
-                        (node.swept_ball(ball, from, dt), Some(ball))
+                        (node.swept_ball(ball, (from, dt), lag), Some(ball))
                     }
                     None => {
-                        let at = |t: Real| shape.compute_aabb(&node.moved(rest, t));
-                        (at(from).merged(&at(dt)), None)
+                        let mut start = node.moved(rest, from);
+                        start.translation += lag;
+                        let end = node.moved(rest, dt);
+                        let swept = shape.compute_aabb(&start).merged(&shape.compute_aabb(&end));
+                        (swept, None)
                     }
                 }
             }
@@ -235,6 +242,10 @@ impl Replay {
         }
         self.deferred = deferred;
         self.join_leaves(tree, &grid, &sweeping, &mut found);
+        #[cfg(test)]
+        {
+            self.swept_overlaps += (found.len() + self.deferred.len()) as u64;
+        }
         self.grid = grid;
         self.sweeping = sweeping;
         // Sweeper by sweeper, each in collider order, as one query each

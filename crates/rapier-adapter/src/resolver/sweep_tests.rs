@@ -25,15 +25,27 @@ fn bits(world: &PhysicsWorld, balls: &[RigidBodyHandle]) -> Vec<u64> {
 /// 500 balls in 22 (2D) or 7 (3D), no gravity, elastic, in `mode`, fast
 /// bodies swept in bulk or (`per_body`) one broad-phase query each.
 fn gas(mode: Mode, speed: Real, per_body: bool) -> (PhysicsWorld, Kimpact, Vec<RigidBodyHandle>) {
+    let mut gas = open_gas(mode, speed, per_body, None);
+    gas.0.gravity = Vector::ZERO;
+    gas
+}
+
+/// [`gas`], in its closed box, or, with `fall`, without the box (and under
+/// rapier's default gravity), every ball moving at `fall` more.
+fn open_gas(
+    mode: Mode,
+    speed: Real,
+    per_body: bool,
+    fall: Option<Vector>,
+) -> (PhysicsWorld, Kimpact, Vec<RigidBodyHandle>) {
     use rand::{RngExt, SeedableRng};
     let n = 300;
     let base: Real = if DIM == 2 { 22.0 } else { 7.0 };
     let half = base * ((n as f64 / 500.0).powf(1.0 / DIM as f64)) as Real;
     let mut world = PhysicsWorld::new();
-    world.gravity = Vector::ZERO;
     let mut kimpact = Kimpact::new(Law::elastic(), mode);
     kimpact.replay.per_body_sweep = per_body;
-    for axis in 0..DIM {
+    for axis in (0..DIM).filter(|_| fall.is_none()) {
         for sign in [-1.0, 1.0] {
             let mut centre = Vector::ZERO;
             centre[axis] = sign * (half + 1.0);
@@ -66,6 +78,7 @@ fn gas(mode: Mode, speed: Real, per_body: bool) -> (PhysicsWorld, Kimpact, Vec<R
         for k in 0..DIM {
             v[k] = speed * rng.random_range(-1.0..1.0) as Real;
         }
+        v += fall.unwrap_or(Vector::ZERO);
         let body = world.bodies.insert(
             RigidBodyBuilder::dynamic()
                 .translation(p)
@@ -222,4 +235,57 @@ fn a_pair_deferred_by_the_sweep_still_meets_after_an_impact() {
             "per-body sweep {per_body}: A met B at {ab}, then C at {ac:?}, not in the same step"
         );
     }
+}
+
+/// A gas falling as a whole under gravity, 35 m/s faster than its balls
+/// move against each other, is swept as the same gas at rest: the sweeps
+/// judge each ball's motion against the frame the falling world shares
+/// (`StepFrame::shared`), and build its box there (`StepFrame::lag`), so
+/// the bulk sweep's boxes are as long, and meet as many others, as
+/// without the fall; and the impacts are the same pairs. (Built in the
+/// world, each box would be 0.6 m longer than a ball's own motion, and
+/// meet three times as many in 2D.)
+#[test]
+fn a_falling_gas_is_swept_as_the_same_gas_at_rest() {
+    let steps = 60;
+    let run = |fall: Vector| {
+        let (mut world, mut kimpact, _) = open_gas(Mode::Exact, 3.0, false, Some(fall));
+        if fall == Vector::ZERO {
+            world.gravity = Vector::ZERO;
+        }
+        let mut pairs = Vec::new();
+        for step in 0..steps {
+            kimpact.step_world(&mut world, &(), &());
+            if step < 20 {
+                let mut now: Vec<_> = kimpact.events().iter().map(|e| impact_key(e).0).collect();
+                now.sort_unstable();
+                pairs.push(now);
+            }
+        }
+        let replay = &kimpact.replay;
+        (replay.swept_overlaps, replay.bulk_sweeps, pairs)
+    };
+    let (at_rest, rest_runs, rest_pairs) = run(Vector::ZERO);
+    let (falling, fall_runs, fall_pairs) = run(-Vector::Y * 35.0);
+    assert!(
+        rest_runs >= steps / 2,
+        "{rest_runs} steps of the gas at rest swept in bulk"
+    );
+    assert_eq!(fall_runs, rest_runs, "steps swept in bulk");
+    assert!(at_rest > 0);
+    let ratio = falling as f64 / at_rest as f64;
+    assert!(
+        (0.9..=1.1).contains(&ratio),
+        "the falling gas's swept boxes met {falling} others, the gas at rest's {at_rest}"
+    );
+    assert!(
+        rest_pairs.iter().any(|p| !p.is_empty()),
+        "no impacts at rest"
+    );
+    // Over the first 20 steps (until rounding, which differs where the
+    // balls are far from the origin, tips an impact into another step).
+    assert_eq!(
+        fall_pairs, rest_pairs,
+        "the impacts' first colliders, step by step"
+    );
 }
