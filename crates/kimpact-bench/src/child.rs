@@ -60,6 +60,7 @@ fn child_args(cli: &Cli, solo: bool, (scene, balls, precision): Config, mode: Mo
         (small, "--time-blocks"),
         (cli.hook_native, "--hook-native"),
         (solo && !cli.no_attribute, "--attribute"),
+        (!solo && cli.stages, "--stages"),
     ];
     args.extend(flags.iter().filter(|f| f.0).map(|f| f.1.to_owned()));
     args

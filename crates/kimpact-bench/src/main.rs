@@ -13,6 +13,7 @@ mod effects;
 mod memory;
 mod raw;
 mod report;
+mod stages;
 mod worlds;
 
 use std::collections::BTreeSet;

@@ -17,6 +17,10 @@ pub struct Measure {
     pub cpu_us: Vec<f64>,
     pub allocs: u64,
     pub impacts: u64,
+    /// With `--stages`, per measured step: kimpact's `before_step`,
+    /// rapier's step and kimpact's `after_step` (µs, on the step clock).
+    #[serde(default)]
+    pub stages_us: Vec<[f64; 3]>,
 }
 
 /// A timing child: native's measure and the mode's, in lockstep in one

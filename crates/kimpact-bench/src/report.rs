@@ -12,7 +12,7 @@ use crate::raw::{Group, Header, Measure, Pair, Raw};
 
 /// The median of `v` (the upper middle value of an even count; NaN for
 /// none).
-fn median(mut v: Vec<f64>) -> f64 {
+pub fn median(mut v: Vec<f64>) -> f64 {
     let mid = v.len() / 2;
     match v.is_empty() {
         true => f64::NAN,
@@ -204,6 +204,10 @@ pub fn render(dir: &Path, raw: &Raw) -> ExitCode {
         (dir.join("results.md"), markdown.into_bytes()),
         (dir.join("results.csv"), csv(&rows)),
     ];
+    if let Some(stages) = crate::stages::markdown(raw) {
+        println!("{stages}");
+        files.push((dir.join("stages.md"), stages.into_bytes()));
+    }
     for key in BTreeSet::from_iter(rows.iter().map(|r| (&r.scene, r.precision))) {
         let mine = rows.iter().filter(|r| (&r.scene, r.precision) == key);
         let mine: Vec<&BenchRow> = mine.collect();

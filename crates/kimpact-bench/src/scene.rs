@@ -253,6 +253,33 @@ impl Bench {
     /// One step through kimpact (`Mode::Native` too: identical code path),
     /// after swinging the flippers.
     pub fn step(&mut self) {
+        self.swing_and_step(|kimpact, world| {
+            kimpact.step_world(world, &(), &());
+        });
+    }
+
+    /// [`Bench::step`], each of its three stages timed on the step clock:
+    /// kimpact's `before_step`, rapier's step, kimpact's `after_step` (µs).
+    pub fn step_in_stages(&mut self) -> [f64; 3] {
+        let mut stages = [0.0; 3];
+        self.swing_and_step(|kimpact, world| {
+            let (gravity, params) = (world.gravity, world.integration_parameters);
+            let (pipeline, mut sets) = k::StepSets::of_world(world);
+            let t0 = memory::step_clock_us();
+            let prepared = kimpact.before_step(gravity, &params, &mut sets);
+            let t1 = memory::step_clock_us();
+            let hooks = kimpact.hooks(&prepared, &());
+            sets.step_pipeline(pipeline, gravity, &params, &hooks, &());
+            let t2 = memory::step_clock_us();
+            kimpact.after_step(prepared, &mut sets, &());
+            let t3 = memory::step_clock_us();
+            stages = [t1 - t0, t2 - t1, t3 - t2];
+        });
+        stages
+    }
+
+    /// Swing the flippers, step with `step`, read the events if asked.
+    fn swing_and_step(&mut self, step: impl FnOnce(&mut Kimpact, &mut PhysicsWorld)) {
         let (tau, period) = (std::f64::consts::TAU as Real, 0.25);
         for &(body, sign) in &self.flippers {
             let w = 0.45 * tau / period * (tau * self.time / period).sin();
@@ -260,7 +287,7 @@ impl Bench {
                 rb.set_angvel(about_z(sign * w), true);
             }
         }
-        self.kimpact.step_world(&mut self.world, &(), &());
+        step(&mut self.kimpact, &mut self.world);
         if self.read_events {
             let impulses = self.kimpact.events().iter().map(|e| e.impulse);
             std::hint::black_box(impulses.sum::<Real>());
@@ -271,13 +298,16 @@ impl Bench {
 
 /// CPU time and allocations of `n` measured steps into `m`: a sample per
 /// step, or with `whole` one per block (a step of microseconds is too short
-/// to time alone).
-fn measured_block(bench: &mut Bench, n: usize, whole: bool, m: &mut Measure) {
+/// to time alone); with `stages` (and not `whole`), each step's stages too.
+fn measured_block(bench: &mut Bench, n: usize, (whole, stages): (bool, bool), m: &mut Measure) {
     let per_sample = if whole { n } else { 1 };
     for _ in 0..n / per_sample {
         let (count, cpu) = (alloc::count(), memory::step_clock_us());
         for _ in 0..per_sample {
-            bench.step();
+            match stages && !whole {
+                true => m.stages_us.push(bench.step_in_stages()),
+                false => bench.step(),
+            }
         }
         let cpu = memory::step_clock_us() - cpu;
         m.allocs += alloc::count() - count;
@@ -316,7 +346,7 @@ fn run_pair(cli: &Cli, build: impl Fn(Mode) -> Bench) -> Pair {
         for done in (0..cli.steps).step_by(block) {
             let n = block.min(cli.steps - done);
             for (w, m) in &mut worlds {
-                measured_block(w, n, cli.time_blocks, m);
+                measured_block(w, n, (cli.time_blocks, cli.stages), m);
             }
         }
         for ((w, m), before) in worlds.iter_mut().zip(before) {

@@ -211,3 +211,44 @@ fn two_sizes_give_a_scaling_plot_and_rerender_rebuilds_the_outputs() {
     );
     assert!(svg.exists());
 }
+
+/// `--stages` times each measured step's three stages and writes their
+/// medians per law mode into `stages.md`, every one a time (no `—`, which
+/// would be a run without stages); a run without it writes no such file.
+#[test]
+fn the_stage_table_has_a_timed_row_per_law_mode() {
+    let out = out_dir("stages");
+    let args = [
+        "--scene",
+        "gas2d",
+        "--balls",
+        "50",
+        "--precision",
+        "f32",
+        "--warmup",
+        "2",
+        "--steps",
+        "4",
+        "--no-attribute",
+        "--stages",
+    ];
+    bench(&args, &out);
+    let md = std::fs::read_to_string(out.join("stages.md")).expect("stages.md");
+    for mode in ["restitution", "impulse", "exact"] {
+        let row = md
+            .lines()
+            .find(|l| l.starts_with(&format!("| gas2d | f32 | 50 | {mode} |")))
+            .unwrap_or_else(|| panic!("no {mode} row in\n{md}"));
+        let cells: Vec<&str> = row.split('|').map(str::trim).collect();
+        // native's step, before, rapier, after, kimpact's share.
+        for cell in &cells[5..10] {
+            assert!(!cell.contains('—') && !cell.is_empty(), "{row}");
+        }
+        let share: f64 = cells[9].parse().expect("a share");
+        assert!(share.is_finite() && share >= 0.0, "{row}");
+    }
+    let plain = out_dir("no-stages");
+    bench(&args[..args.len() - 1], &plain);
+    assert!(plain.join("results.md").exists());
+    assert!(!plain.join("stages.md").exists());
+}

@@ -97,8 +97,11 @@ impl<'a> StepSets<'a> {
         (&mut world.physics_pipeline, sets)
     }
 
-    /// `pipeline.step` on these sets, with `hooks` and `events`.
-    pub(crate) fn step_pipeline(
+    /// `pipeline.step` on these sets, with `hooks` and `events`: rapier's
+    /// step between [`Kimpact::before_step`](crate::Kimpact::before_step)
+    /// and [`Kimpact::after_step`](crate::Kimpact::after_step), with
+    /// [`Kimpact::hooks`](crate::Kimpact::hooks) as `hooks`.
+    pub fn step_pipeline(
         &mut self,
         pipeline: &mut PhysicsPipeline,
         gravity: Vector,
