@@ -172,8 +172,8 @@ pub struct Cli {
     /// `parallel` feature).
     #[arg(long, value_parser = clap::value_parser!(u16).range(1..))]
     pub threads: Option<u16>,
-    /// Time kimpact's two stages and rapier's step apart (each step on its
-    /// own clock reads): their medians into `stages.md` in `--out`.
+    /// Time kimpact's two stages and rapier's step apart, each on the step
+    /// clock: their medians into `stages.md` in `--out`.
     #[arg(long)]
     pub stages: bool,
     /// Internal: one timing pair (native and the mode), printed as JSON.
