@@ -21,6 +21,7 @@ mod d2 {
     include!("cases/settings.rs");
     include!("cases/meshes.rs");
     include!("cases/friction.rs");
+    include!("cases/landing.rs");
 }
 
 mod d3 {
@@ -41,6 +42,7 @@ mod d3 {
     include!("cases/settings.rs");
     include!("cases/meshes.rs");
     include!("cases/friction.rs");
+    include!("cases/landing.rs");
 }
 
 mod d2_f64 {
@@ -61,6 +63,7 @@ mod d2_f64 {
     include!("cases/settings.rs");
     include!("cases/meshes.rs");
     include!("cases/friction.rs");
+    include!("cases/landing.rs");
     include!("cases/soak.rs");
     include!("cases/long.rs");
 
@@ -96,6 +99,7 @@ mod d3_f64 {
     include!("cases/settings.rs");
     include!("cases/meshes.rs");
     include!("cases/friction.rs");
+    include!("cases/landing.rs");
     include!("cases/soak.rs");
     include!("cases/long.rs");
 

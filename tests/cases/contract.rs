@@ -228,6 +228,18 @@ fn invalid_settings_are_rejected_and_the_old_ones_kept() {
         assert_eq!(*kimpact.config(), ResolverConfig::default());
         let message = ResolverConfigError::RestSpeed(bad).to_string();
         assert!(message.contains("rest_speed"), "{message}");
+        let cutoff = ResolverConfig {
+            rebound_cutoff: Some(bad),
+            ..ResolverConfig::default()
+        };
+        assert!(matches!(
+            Kimpact::with_config(Law::elastic(), Mode::Exact, cutoff),
+            Err(ResolverConfigError::ReboundCutoff(_))
+        ));
+        assert!(matches!(kimpact.set_config(cutoff), Err(ResolverConfigError::ReboundCutoff(_))));
+        assert_eq!(*kimpact.config(), ResolverConfig::default());
+        let message = ResolverConfigError::ReboundCutoff(bad).to_string();
+        assert!(message.contains("rebound_cutoff"), "{message}");
     }
     let zero = ResolverConfig {
         max_events_per_step: 0,

@@ -50,10 +50,12 @@ fn child_args(cli: &Cli, solo: bool, (scene, balls, precision): Config, mode: Mo
     let scene = name(scene);
     let threads = cli.threads.map(|n| format!(" --threads {n}"));
     let effect = cli.effect.map(|e| format!(" --effect {}", name(e)));
+    let cutoff = cli.rebound_cutoff.map(|n| format!(" --rebound-cutoff {n}"));
     let (threads, effect) = (threads.unwrap_or_default(), effect.unwrap_or_default());
+    let cutoff = cutoff.unwrap_or_default();
     let args = format!(
         "{kind} --scene {scene} --mode {mode} --precision {precision} --balls {balls} \
-         --steps {steps} --warmup {warmup} --block {block} --repeats {repeats}{threads}{effect}"
+         --steps {steps} --warmup {warmup} --block {block} --repeats {repeats}{threads}{effect}{cutoff}"
     );
     let mut args: Vec<String> = args.split(' ').map(str::to_owned).collect();
     let flags = [

@@ -1,7 +1,7 @@
 //! The command line, the hidden options of a child process included.
 
 use std::path::PathBuf;
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, AtomicU64};
 
 use clap::{Parser, ValueEnum};
 use kimpact::{Mode, Precision};
@@ -105,6 +105,24 @@ pub enum Effect {
 /// `--hook-native` of this process, for the scenes' marked colliders.
 pub static HOOK_NATIVE: AtomicBool = AtomicBool::new(false);
 
+/// `--rebound-cutoff` of this process (the bits of an `f64`; 0: off), for
+/// the scenes' law worlds.
+pub static REBOUND_CUTOFF: AtomicU64 = AtomicU64::new(0);
+
+/// `--rebound-cutoff`'s value: a finite number of rest speeds, `≥ 0`.
+fn parse_cutoff(s: &str) -> Result<f64, String> {
+    let x: f64 = s
+        .parse()
+        .map_err(|e| format!("{s:?} is not a number: {e}"))?;
+    if x.is_finite() && x >= 0.0 {
+        Ok(x)
+    } else {
+        Err(format!(
+            "the rebound cut-off must be finite and >= 0 rest speeds, got {x}"
+        ))
+    }
+}
+
 /// The kimpact benchmark matrix: time per step against native rapier,
 /// memory and allocations, and scaling.
 #[derive(Parser, Debug, Clone, Serialize, Deserialize)]
@@ -176,6 +194,10 @@ pub struct Cli {
     /// clock: their medians into `stages.md` in `--out`.
     #[arg(long)]
     pub stages: bool,
+    /// `ResolverConfig::rebound_cutoff` in every law world, in rest speeds
+    /// (`N × 2 |g| dt`; nothing in a scene without gravity).
+    #[arg(long, value_parser = parse_cutoff)]
+    pub rebound_cutoff: Option<f64>,
     /// Internal: one timing pair (native and the mode), printed as JSON.
     #[arg(long, hide = true)]
     pub pair: bool,

@@ -252,3 +252,52 @@ fn the_stage_table_has_a_timed_row_per_law_mode() {
     assert!(plain.join("results.md").exists());
     assert!(!plain.join("stages.md").exists());
 }
+
+/// `--rebound-cutoff` reaches the children's law worlds: the same landing
+/// 2D pit resolves fewer law impacts with it (its rebounds within a step
+/// wait), and a cut-off that is not a number of rest speeds is refused,
+/// naming it.
+#[test]
+fn the_rebound_cutoff_reaches_the_law_worlds() {
+    let args = [
+        "--scene",
+        "pit2d",
+        "--balls",
+        "300",
+        "--mode",
+        "exact",
+        "--precision",
+        "f32",
+        "--warmup",
+        "40",
+        "--steps",
+        "40",
+        "--no-attribute",
+    ];
+    let impacts = |out: &Path| {
+        let row = rows(out)
+            .into_iter()
+            .find(|r| r.mode == Mode::Exact)
+            .expect("an exact row");
+        row.impacts_per_step
+    };
+    let plain = out_dir("no-cutoff");
+    bench(&args, &plain);
+    let cut = out_dir("cutoff");
+    bench(&[&args[..], &["--rebound-cutoff", "2"]].concat(), &cut);
+    let (without, with) = (impacts(&plain), impacts(&cut));
+    assert!(
+        without > 0.0 && with < 0.9 * without,
+        "impacts per step: {without} without, {with} with the cut-off"
+    );
+    let refused = std::process::Command::new(env!("CARGO_BIN_EXE_kimpact-bench"))
+        .arg("--rebound-cutoff=-1")
+        .output()
+        .expect("the bench binary starts");
+    assert!(!refused.status.success());
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert!(
+        stderr.contains("rebound-cutoff") && stderr.contains(">= 0"),
+        "{stderr}"
+    );
+}

@@ -27,6 +27,7 @@ fn bad_scenes() -> Vec<(String, String, Vec<&'static str>)> {
         ("unknown_mode.json".into(), format!(r#"{{"dim": 2, "steps": 10, "mode": "fast", "bodies": [{BALL}]}}"#), vec!["mode", "unknown mode \"fast\""]),
         ("bad_precision.json".into(), format!(r#"{{"dim": 2, "steps": 10, "precision": "f16", "bodies": [{BALL}]}}"#), vec!["precision"]),
         ("zero_dt.json".into(), format!(r#"{{"dim": 2, "steps": 10, "dt": 0, "bodies": [{BALL}]}}"#), vec!["dt", "must be > 0"]),
+        ("negative_rebound_cutoff.json".into(), format!(r#"{{"dim": 2, "steps": 10, "rebound_cutoff": -0.5, "bodies": [{BALL}]}}"#), vec!["rebound_cutoff", "must be >= 0"]),
         ("position_3_in_2d.json".into(), json(r#"{"shape": "ball", "radius": 0.1, "mass": 1, "position": [0, 0, 0]}"#), vec!["bodies[0].position", "must have 2 components"]),
         ("gravity_3_in_2d.json".into(), format!(r#"{{"dim": 2, "steps": 10, "gravity": [0, -9.81, 0], "bodies": [{BALL}]}}"#), vec!["gravity", "must have 2 components"]),
         ("half_extents_2_in_3d.json".into(), r#"{"dim": 3, "steps": 10, "bodies": [{"shape": "box", "half_extents": [1, 1], "mass": 1, "position": [0, 0, 0]}]}"#.into(), vec!["bodies[0].half_extents", "3 components"]),

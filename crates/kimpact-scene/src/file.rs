@@ -43,6 +43,9 @@ pub struct SceneFile {
     /// Whether the command chooses CCD for the bodies that do not say
     /// (default false: rapier's default, no CCD).
     pub auto_ccd: Option<bool>,
+    /// The law modes' rebound cut-off in m/s (kimpact's
+    /// `ResolverConfig::rebound_cutoff`; default none).
+    pub rebound_cutoff: Option<f64>,
     /// How pictures are drawn.
     pub view: Option<ViewFile>,
 }

@@ -409,6 +409,10 @@ pub struct Scene {
     /// Whether the command chooses CCD for the bodies that do not say
     /// (see [`Scene::ccd_flags`]).
     pub auto_ccd: bool,
+    /// The law modes' rebound cut-off in m/s, if any (kimpact's
+    /// `ResolverConfig::rebound_cutoff`: a pair struck already in a step
+    /// and meeting again slower than this waits for the next step).
+    pub rebound_cutoff: Option<f64>,
     /// Pictures.
     pub view: View,
     /// Things worth telling the user (values ignored because their effect is

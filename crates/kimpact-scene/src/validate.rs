@@ -38,6 +38,10 @@ pub fn validate(raw: SceneFile, file: &str, name: &str) -> Result<Scene, SceneEr
     };
     c.precision = precision;
     let dt = c.positive("dt", raw.dt.unwrap_or(1.0 / 60.0))?;
+    let rebound_cutoff = match raw.rebound_cutoff {
+        Some(v) => Some(c.non_negative("rebound_cutoff", v)?),
+        None => None,
+    };
     let steps = match raw.steps {
         Some(s) if (1..=MAX_STEPS).contains(&s) => s,
         Some(s) => {
@@ -333,6 +337,7 @@ pub fn validate(raw: SceneFile, file: &str, name: &str) -> Result<Scene, SceneEr
         joints,
         effects,
         auto_ccd: raw.auto_ccd.unwrap_or(false),
+        rebound_cutoff,
         view,
         warnings,
     })

@@ -68,10 +68,11 @@ pub fn build(scene: &Scene, mode: Mode) -> Result<SceneWorld, BuildError> {
     let law = Law::new(scene.effective_law().map(|x| x as Real)).map_err(law_error("law"))?;
     let config = ResolverConfig {
         fixed_partners: scene.active(Effect::FixedWalls),
+        rebound_cutoff: scene.rebound_cutoff.map(|v| v as Real),
         ..ResolverConfig::default()
     };
     let mut kimpact = Kimpact::with_config(law, mode, config)
-        .expect("the default configuration with fixed_partners set is valid");
+        .expect("the default configuration with fixed_partners and a checked cut-off is valid");
 
     let spin = scene.active(Effect::Spin);
     let friction = scene.active(Effect::Friction);

@@ -48,6 +48,25 @@ pub struct ResolverConfig {
     /// `true`; `false` leaves sleeping to rapier alone.
     #[cfg_attr(feature = "serde-serialize", serde(default = "yes"))]
     pub keep_moving_awake: bool,
+    /// A cut-off against inelastic collapse in landing piles, after the
+    /// contact duration of Luding and McNamara's TC model: a pair the law
+    /// has struck already in this step and that meets again approaching
+    /// slower than this (a ball rattling between its neighbours in a pile)
+    /// is not struck again in this step. Its rebound waits for the next
+    /// step, where the law meets it as the pair's first impact there.
+    /// `None` (the default): every impact the replay finds follows the law
+    /// at its time.
+    ///
+    /// It changes such a pair's path (it keeps closing, by at most
+    /// `cut-off × dt`, until the next step's impact), which is why it is
+    /// off by default; it never touches a pair's first impact in a step,
+    /// so a scene without repeated meetings within a step is bit for bit
+    /// the same (`docs/benchmarks.md`, *Landings*, measures it in a
+    /// landing ball pit). The balls' replay only: the rigid replay, and
+    /// pairs with impact friction, strike at every meeting. Must be finite
+    /// and `≥ 0`.
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    pub rebound_cutoff: Option<Real>,
 }
 
 #[cfg(feature = "serde-serialize")]
@@ -63,6 +82,7 @@ impl Default for ResolverConfig {
             max_events_per_step: 100_000,
             calm_neighbourhoods: true,
             keep_moving_awake: true,
+            rebound_cutoff: None,
         }
     }
 }
@@ -73,6 +93,9 @@ pub enum ResolverConfigError {
     /// `rest_speed` is NaN, infinite or negative.
     #[error("ResolverConfig::rest_speed must be finite and >= 0, got {0}")]
     RestSpeed(Real),
+    /// `rebound_cutoff` is NaN, infinite or negative.
+    #[error("ResolverConfig::rebound_cutoff must be finite and >= 0, got {0}")]
+    ReboundCutoff(Real),
     /// `max_events_per_step` is zero.
     #[error("ResolverConfig::max_events_per_step must be at least 1, got 0")]
     MaxEventsPerStep,
@@ -88,6 +111,11 @@ impl ResolverConfig {
             && !(r.is_finite() && r >= 0.0)
         {
             return Err(ResolverConfigError::RestSpeed(r));
+        }
+        if let Some(c) = self.rebound_cutoff
+            && !(c.is_finite() && c >= 0.0)
+        {
+            return Err(ResolverConfigError::ReboundCutoff(c));
         }
         if self.max_events_per_step == 0 {
             return Err(ResolverConfigError::MaxEventsPerStep);

@@ -74,6 +74,9 @@ pub(super) struct Run<'a> {
     pub gravity_dt: Vector,
     /// Approach speeds at or below this are resting contacts.
     pub rest_speed: Real,
+    /// A pair struck already in this run and approaching slower than this
+    /// is rapier's (`ResolverConfig::rebound_cutoff`; 0 when off).
+    pub rebound_cutoff: Real,
     pub reach: Reach,
     /// Which pairs of a marked collider the law governs.
     pub partners: Partners,
@@ -92,6 +95,7 @@ impl<'a> Run<'a> {
             dt: frame.dt,
             gravity_dt: frame.gravity * frame.dt,
             rest_speed: frame.rest_speed,
+            rebound_cutoff: input.config.rebound_cutoff.unwrap_or(0.0),
             reach: input.policy.reach,
             partners: input.policy.partners,
         }

@@ -35,9 +35,16 @@ pub(super) struct Applied {
 impl Replay {
     /// The law's impact of `pair` at its queued hit, the angular
     /// velocities it changes already applied; `None` when the law gives
-    /// none (the pair is rapier's, the contact points do not approach) or
-    /// the data cannot enter it (counted in `log`).
-    pub(super) fn impact(&mut self, run: &Run, pair: &Pair, log: &mut EventLog) -> Option<Applied> {
+    /// none (the pair is rapier's, the contact points do not approach, or
+    /// approach slower than `floor`) or the data cannot enter it (counted
+    /// in `log`).
+    pub(super) fn impact(
+        &mut self,
+        run: &Run,
+        pair: &Pair,
+        floor: Real,
+        log: &mut EventLog,
+    ) -> Option<Applied> {
         let t = pair.hit.time;
         let (na, nb) = (self.nodes[pair.a], self.nodes[pair.b]);
         // A body with some translations locked: the pair is rapier's.
@@ -54,6 +61,9 @@ impl Replay {
         let masses = [la.mass, lb.mass];
         if friction.is_frictionless() {
             let impact = law.resolve_unit(&ba, &bb, &to_law(pair.hit.normal))?;
+            if impact.approach_speed < floor {
+                return None;
+            }
             return Some(Applied {
                 outcome: Outcome::from(&impact),
                 delta_v: [impact.delta_v_a, impact.delta_v_b],

@@ -245,6 +245,9 @@ pub(super) struct Pair {
     /// The instant at which the pair, two balls apart then, waits to be
     /// predicted (see `Replay::defer_if_apart`); −∞ when it does not.
     pub apart_at: Real,
+    /// Whether the law has struck the pair in this run (see
+    /// `ResolverConfig::rebound_cutoff`).
+    pub struck: bool,
     /// The next pair of node `a`'s list and of node `b`'s (`NO_PAIR` at the
     /// end; see `Replay::ends`).
     pub next: [u32; 2],

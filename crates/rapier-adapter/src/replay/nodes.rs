@@ -160,6 +160,7 @@ impl Replay {
             balls,
             hit: Hit::NONE,
             apart_at: Real::NEG_INFINITY,
+            struck: false,
             next: [NO_PAIR; 2],
         });
         for n in [a, b] {

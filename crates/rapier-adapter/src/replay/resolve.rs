@@ -111,9 +111,13 @@ impl Replay {
                 );
                 break;
             }
-            let Some(applied) = self.impact(run, &pair, out.log) else {
+            // A pair struck already in this step is left to rapier's
+            // solver below the rebound cut-off.
+            let floor = if pair.struck { run.rebound_cutoff } else { 0.0 };
+            let Some(applied) = self.impact(run, &pair, floor, out.log) else {
                 continue;
             };
+            self.pairs[i].struck = true;
             events += 1;
             self.bend(&pair, t, &applied);
             let at = pair.hit;
