@@ -12,10 +12,10 @@ type RowEvents = Vec<([usize; 2], f64)>;
 
 /// A row along x, no gravity: ball A (speed 1) meets B, which touches C,
 /// all of mass 1 and radius 0.5, in mode `mode` with the rebound cut-off
-/// `cutoff`. Steps `steps` times; the law's events of each step (the two
-/// colliders' indices in the row and the approach speed), and the balls'
-/// velocities along x at the end.
-fn struck_row(mode: Mode, cutoff: Option<Real>, steps: usize) -> (Vec<RowEvents>, [f64; 3]) {
+/// `cutoff`, with impact friction (`μ = 0.5`, nothing to slip on head-on)
+/// if `friction`. Steps `steps` times; the law's events of each step, and
+/// the balls' velocities along x at the end.
+fn struck_row(mode: Mode, cutoff: Option<Real>, friction: bool, steps: usize) -> (Vec<RowEvents>, [f64; 3]) {
     let mut w = TestWorld::new(mode, ROW_DISSIPATION, Vector::ZERO);
     let config = k::ResolverConfig {
         rebound_cutoff: cutoff,
@@ -27,6 +27,15 @@ fn struck_row(mode: Mode, cutoff: Option<Real>, steps: usize) -> (Vec<RowEvents>
     let (a, ca) = w.ball(Vector::X * -(2.0 * r + 0.5 * dt), Vector::X, r, 1.0);
     let (b, cb) = w.ball(Vector::ZERO, Vector::ZERO, r, 1.0);
     let (c, cc) = w.ball(Vector::X * (2.0 * r), Vector::ZERO, r, 1.0);
+    if friction {
+        let material = k::Material::new(ROW_DISSIPATION, ROW_DISSIPATION)
+            .unwrap()
+            .with_impact_friction(0.5, 0.0)
+            .unwrap();
+        for c in [ca, cb, cc] {
+            w.kimpact.mark_with(&w.world.colliders, c, material).unwrap();
+        }
+    }
     let index = |ch: ColliderHandle| [ca, cb, cc].iter().position(|&x| x == ch).unwrap();
     let mut log = Vec::new();
     for _ in 0..steps {
@@ -59,36 +68,36 @@ fn row_sequence() -> (f64, [f64; 3]) {
 fn landing_a_rebound_below_the_cutoff_waits_for_the_next_step() {
     let (e, [u1, u2, u3]) = row_sequence();
     let tol = 10.0 * f64::from(tol());
-    for mode in [Mode::Impulse, Mode::Exact] {
+    for (mode, friction) in [Mode::Impulse, Mode::Exact].into_iter().flat_map(|m| [(m, false), (m, true)]) {
         // Without the cut-off: the law's three impacts, in the first step.
-        let (log, _) = struck_row(mode, None, 1);
+        let (log, _) = struck_row(mode, None, friction, 1);
         let seen = &log[0];
-        assert_eq!(seen.len(), 3, "{mode}: {seen:?}");
+        assert_eq!(seen.len(), 3, "{mode}, friction {friction}: {seen:?}");
         for (&(pair, u), (want_pair, want_u)) in seen.iter().zip([([0, 1], u1), ([1, 2], u2), ([0, 1], u3)]) {
-            assert_eq!(pair, want_pair, "{mode}: {seen:?}");
-            assert!((u - want_u).abs() < tol, "{mode}: approach {u}, closed form {want_u}");
+            assert_eq!(pair, want_pair, "{mode}, friction {friction}: {seen:?}");
+            assert!((u - want_u).abs() < tol, "{mode}, friction {friction}: approach {u}, closed form {want_u}");
         }
-        let (_, plain) = struck_row(mode, None, 3);
+        let (_, plain) = struck_row(mode, None, friction, 3);
         // A cut-off between the rebound's approach and the others: the
         // rebound waits for the next step, where the law strikes it as
         // the pair's first impact there, and the row ends as without it.
         let cutoff = 2.0 * u3;
-        let (log, v) = struck_row(mode, Some(cutoff as Real), 3);
+        let (log, v) = struck_row(mode, Some(cutoff as Real), friction, 3);
         let first: Vec<_> = log[0].iter().map(|&(pair, _)| pair).collect();
-        assert_eq!(first, [[0, 1], [1, 2]], "{mode}: {:?}", log[0]);
-        assert_eq!(log[1].len(), 1, "{mode}: {:?}", log[1]);
+        assert_eq!(first, [[0, 1], [1, 2]], "{mode}, friction {friction}: {:?}", log[0]);
+        assert_eq!(log[1].len(), 1, "{mode}, friction {friction}: {:?}", log[1]);
         let (pair, u) = log[1][0];
-        assert_eq!(pair, [0, 1], "{mode}: {:?}", log[1]);
-        assert!((u - u3).abs() < tol, "{mode}: the rebound's approach {u}, closed form {u3}");
-        assert!(log[2].is_empty(), "{mode}: {:?}", log[2]);
+        assert_eq!(pair, [0, 1], "{mode}, friction {friction}: {:?}", log[1]);
+        assert!((u - u3).abs() < tol, "{mode}, friction {friction}: the rebound's approach {u}, closed form {u3}");
+        assert!(log[2].is_empty(), "{mode}, friction {friction}: {:?}", log[2]);
         let after = [
             0.5 * (1.0 - e) - 0.5 * (1.0 + e) * u3,
             0.25 * (1.0 - e * e) + 0.5 * (1.0 + e) * u3,
             0.25 * (1.0 + e).powi(2),
         ];
         for i in 0..3 {
-            assert!((v[i] - after[i]).abs() < tol, "{mode}: {v:?}, closed form {after:?}");
-            assert!((plain[i] - after[i]).abs() < tol, "{mode}: without the cut-off {plain:?}, closed form {after:?}");
+            assert!((v[i] - after[i]).abs() < tol, "{mode}, friction {friction}: {v:?}, closed form {after:?}");
+            assert!((plain[i] - after[i]).abs() < tol, "{mode}, friction {friction}: without the cut-off {plain:?}, closed form {after:?}");
         }
     }
 }

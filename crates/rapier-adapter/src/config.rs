@@ -62,9 +62,8 @@ pub struct ResolverConfig {
     /// off by default; it never touches a pair's first impact in a step,
     /// so a scene without repeated meetings within a step is bit for bit
     /// the same (`docs/benchmarks.md`, *Landings*, measures it in a
-    /// landing ball pit). The balls' replay only: the rigid replay, and
-    /// pairs with impact friction, strike at every meeting. Must be finite
-    /// and `≥ 0`.
+    /// landing ball pit). The balls' replay only: the rigid replay strikes
+    /// at every meeting. Must be finite and `≥ 0`.
     #[cfg_attr(feature = "serde-serialize", serde(default))]
     pub rebound_cutoff: Option<Real>,
 }

@@ -71,6 +71,9 @@ impl Replay {
             });
         }
         let impact = with_friction(pair, [(&na, &la), (&nb, &lb)], &law, &friction)?;
+        if impact.approach_speed < floor {
+            return None;
+        }
         let from = t.max(0.0);
         self.nodes[pair.a].turn_by(&impact.delta_omega_a, from, run.dt);
         self.nodes[pair.b].turn_by(&impact.delta_omega_b, from, run.dt);
