@@ -53,12 +53,13 @@ pub struct ResolverConfig {
     /// has struck already in this step and that meets again approaching
     /// slower than this (a ball rattling between its neighbours in a pile)
     /// is not struck again in this step. Its rebound waits for the next
-    /// step, where the law meets it as the pair's first impact there.
-    /// `None` (the default): every impact the replay finds follows the law
-    /// at its time.
+    /// step, which takes it as it takes any pair: the law's impact when
+    /// rapier's contact for it is fresh, rapier's solver with no bounce
+    /// when rapier's solver pressed it (see the rest speed). `None` (the
+    /// default): every impact the replay finds follows the law at its time.
     ///
     /// It changes such a pair's path (it keeps closing, by at most
-    /// `cut-off × dt`, until the next step's impact), which is why it is
+    /// `cut-off × dt`, until the next step takes it), which is why it is
     /// off by default; it never touches a pair's first impact in a step,
     /// so a scene without repeated meetings within a step is bit for bit
     /// the same (`docs/benchmarks.md`, *Landings*, measures it in a

@@ -75,7 +75,8 @@ pub(super) struct Run<'a> {
     /// Approach speeds at or below this are resting contacts.
     pub rest_speed: Real,
     /// A pair struck already in this run and approaching slower than this
-    /// is rapier's (`ResolverConfig::rebound_cutoff`; 0 when off).
+    /// is not struck again before the next step
+    /// (`ResolverConfig::rebound_cutoff`; 0 when off).
     pub rebound_cutoff: Real,
     pub reach: Reach,
     /// Which pairs of a marked collider the law governs.

@@ -111,8 +111,8 @@ impl Replay {
                 );
                 break;
             }
-            // A pair struck already in this step is left to rapier's
-            // solver below the rebound cut-off.
+            // A pair struck already in this step and closing slower than
+            // the rebound cut-off waits for the next step.
             let floor = if pair.struck { run.rebound_cutoff } else { 0.0 };
             let Some(applied) = self.impact(run, &pair, floor, out.log) else {
                 continue;
