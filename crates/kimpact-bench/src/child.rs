@@ -61,6 +61,7 @@ fn child_args(cli: &Cli, solo: bool, (scene, balls, precision): Config, mode: Mo
     let flags = [
         (small, "--time-blocks"),
         (cli.hook_native, "--hook-native"),
+        (cli.no_calm, "--no-calm"),
         (solo && !cli.no_attribute, "--attribute"),
         (!solo && cli.stages, "--stages"),
     ];
@@ -98,5 +99,37 @@ pub fn measure_group(cli: &Cli, config: Config, modes: &[Mode], progress: impl F
         modes,
         pairs,
         solos,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::Parser;
+
+    use super::*;
+
+    /// The law worlds' settings reach every child: `--rebound-cutoff` with
+    /// its value and `--no-calm`, in the timing and the memory runs, and
+    /// neither when not asked.
+    #[test]
+    fn the_law_world_settings_reach_the_children() {
+        let config = (Scene::Pit2d, 300, Precision::F32);
+        let asked = Cli::parse_from(["kimpact-bench", "--no-calm", "--rebound-cutoff", "2.5"]);
+        for solo in [false, true] {
+            let args = child_args(&asked, solo, config, Mode::Exact);
+            let at = args.iter().position(|a| a == "--rebound-cutoff");
+            assert_eq!(at.map(|i| args[i + 1].as_str()), Some("2.5"), "{args:?}");
+            assert!(args.iter().any(|a| a == "--no-calm"), "{args:?}");
+            let child = Cli::parse_from(std::iter::once("kimpact-bench".to_owned()).chain(args));
+            assert_eq!((child.rebound_cutoff, child.no_calm), (Some(2.5), true));
+        }
+        let plain = Cli::parse_from(["kimpact-bench"]);
+        let args = child_args(&plain, false, config, Mode::Exact);
+        assert!(
+            !args
+                .iter()
+                .any(|a| a == "--rebound-cutoff" || a == "--no-calm"),
+            "{args:?}"
+        );
     }
 }

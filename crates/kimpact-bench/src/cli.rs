@@ -109,6 +109,9 @@ pub static HOOK_NATIVE: AtomicBool = AtomicBool::new(false);
 /// the scenes' law worlds.
 pub static REBOUND_CUTOFF: AtomicU64 = AtomicU64::new(0);
 
+/// `--no-calm` of this process, for the scenes' law worlds.
+pub static NO_CALM: AtomicBool = AtomicBool::new(false);
+
 /// `--rebound-cutoff`'s value: a finite number of rest speeds, `≥ 0`.
 fn parse_cutoff(s: &str) -> Result<f64, String> {
     let x: f64 = s
@@ -198,6 +201,10 @@ pub struct Cli {
     /// (`N × 2 |g| dt`; nothing in a scene without gravity).
     #[arg(long, value_parser = parse_cutoff)]
     pub rebound_cutoff: Option<f64>,
+    /// `ResolverConfig::calm_neighbourhoods` off in every law world (what
+    /// the calm test saves or costs).
+    #[arg(long)]
+    pub no_calm: bool,
     /// Internal: one timing pair (native and the mode), printed as JSON.
     #[arg(long, hide = true)]
     pub pair: bool,

@@ -24,7 +24,7 @@ use std::time::Instant;
 use clap::{Parser, ValueEnum};
 use kimpact::Mode;
 
-use cli::{Cli, Effect, HOOK_NATIVE, REBOUND_CUTOFF, Scene, name};
+use cli::{Cli, Effect, HOOK_NATIVE, NO_CALM, REBOUND_CUTOFF, Scene, name};
 
 #[global_allocator]
 static ALLOCATOR: alloc::Counting = alloc::Counting;
@@ -32,6 +32,7 @@ static ALLOCATOR: alloc::Counting = alloc::Counting;
 fn main() -> ExitCode {
     let cli = Cli::parse();
     HOOK_NATIVE.store(cli.hook_native, Ordering::Relaxed);
+    NO_CALM.store(cli.no_calm, Ordering::Relaxed);
     REBOUND_CUTOFF.store(
         cli.rebound_cutoff.unwrap_or(0.0).to_bits(),
         Ordering::Relaxed,

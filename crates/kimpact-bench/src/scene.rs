@@ -9,7 +9,7 @@ use k::{Kimpact, Law, LawError, LawParams, Mode};
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
 
-use crate::cli::{Cli, Effect, HOOK_NATIVE, REBOUND_CUTOFF, Scene};
+use crate::cli::{Cli, Effect, HOOK_NATIVE, NO_CALM, REBOUND_CUTOFF, Scene};
 use crate::raw::{Measure, Pair, Solo};
 use crate::{alloc, memory};
 
@@ -128,25 +128,26 @@ impl Bench {
     /// dimension).
     pub fn setup(scene: Scene, balls: usize, mode: Mode) -> Self {
         let mut b = Self::build(scene, balls, mode);
-        b.cut_rebounds();
+        b.configure();
         b
     }
 
-    /// `ResolverConfig::rebound_cutoff` at `--rebound-cutoff` rest speeds
-    /// (`2 |g| dt`), when asked.
-    fn cut_rebounds(&mut self) {
+    /// The resolver settings this process's options ask for:
+    /// `--rebound-cutoff` (in rest speeds, `2 |g| dt`) and `--no-calm`.
+    fn configure(&mut self) {
+        let mut config = *self.kimpact.config();
         let rests = f64::from_bits(REBOUND_CUTOFF.load(Ordering::Relaxed));
         if rests > 0.0 {
             let g = self.world.gravity.length();
             let rest_speed = 2.0 * g * self.world.integration_parameters.dt;
-            let config = k::ResolverConfig {
-                rebound_cutoff: Some(rests as Real * rest_speed),
-                ..*self.kimpact.config()
-            };
-            self.kimpact
-                .set_config(config)
-                .expect("a finite cut-off of rest speeds >= 0 (checked by the CLI)");
+            config.rebound_cutoff = Some(rests as Real * rest_speed);
         }
+        if NO_CALM.load(Ordering::Relaxed) {
+            config.calm_neighbourhoods = false;
+        }
+        self.kimpact
+            .set_config(config)
+            .expect("a finite cut-off of rest speeds >= 0 (checked by the CLI)");
     }
 
     /// [`Bench::setup`] before the options of this process.
