@@ -280,6 +280,32 @@ fn a_moving_marked_ball_never_falls_asleep() {
 }
 
 #[test]
+fn a_damped_marked_ball_sleeps_when_rapier_puts_it_to_sleep() {
+    // A ball rolling out on a damped cloth, no gravity (rest speed zero):
+    // its motion dies out by the user's choice, so every law mode lets
+    // rapier put it to sleep at the step native rapier does.
+    let asleep_at = |mode: Mode| {
+        let mut w = TestWorld::new(mode, 0.0, Vector::ZERO);
+        let body = RigidBodyBuilder::dynamic()
+            .translation(Vector::ZERO)
+            .linvel(Vector::X * 0.2)
+            .linear_damping(0.3);
+        let collider = ColliderBuilder::ball(0.5).mass(1.0).friction(0.0);
+        let (b, c) = w.world.insert(body, collider);
+        w.kimpact.mark(&w.world.colliders, c).unwrap();
+        (1..=600).find(|_| {
+            w.step();
+            w.world.bodies[b].is_sleeping()
+        })
+    };
+    let native = asleep_at(Mode::Native);
+    assert!(native.is_some(), "native rapier puts the damped ball to sleep");
+    for mode in [Mode::Restitution, Mode::Impulse, Mode::Exact] {
+        assert_eq!(asleep_at(mode), native, "{mode}");
+    }
+}
+
+#[test]
 fn a_pile_at_rest_still_sleeps() {
     for mode in Mode::ALL {
         let mut w = TestWorld::new(mode, 0.1, Vector::Y * -9.81);

@@ -43,8 +43,10 @@ pub struct ResolverConfig {
     /// (where the rest speed is zero) would lose its energy and momentum.
     /// With this on, kimpact restarts the sleep timer of such a body before
     /// each step (`RigidBody::wake_up(true)`, only for bodies whose timer
-    /// runs); bodies at rest, a settled pile under gravity among them, sleep
-    /// as rapier lets them, and so does any body in `Native` mode. Default
+    /// runs); bodies at rest, a settled pile under gravity among them, and
+    /// bodies with linear damping (whose motion dies out anyway: balls
+    /// rolling on a cloth) sleep as rapier lets them, and so does any body
+    /// in `Native` mode. Default
     /// `true`; `false` leaves sleeping to rapier alone.
     #[cfg_attr(feature = "serde-serialize", serde(default = "yes"))]
     pub keep_moving_awake: bool,

@@ -188,11 +188,13 @@ impl Prepared {
     }
 
     /// Restart the sleep timer (rapier's `wake_up(true)`) of every body
-    /// flagged this step that moves faster than `rest_speed` and whose
-    /// timer runs (noted while flagging, with `ResolverConfig::keep_moving_awake`),
-    /// so that rapier never puts a marked body to sleep (and zeroes its
-    /// velocity) while it moves faster than the rest speed. A body at rest
-    /// (a settled pile) is never flagged and sleeps as rapier lets it.
+    /// flagged this step that moves faster than `rest_speed`, has no
+    /// linear damping, and whose timer runs (noted while flagging, with
+    /// `ResolverConfig::keep_moving_awake`), so that rapier never puts such
+    /// a marked body to sleep (and zeroes its velocity) while it moves
+    /// faster than the rest speed. A body at rest (a settled pile) is never
+    /// flagged and sleeps as rapier lets it, and so does a damped one (a
+    /// rolling billiard ball), whose motion dies out by the user's choice.
     /// Reads only those bodies; allocates nothing in steady state.
     pub(crate) fn wake_moving(&self, bodies: &mut RigidBodySet) {
         for &handle in &self.to_wake {
@@ -739,6 +741,7 @@ impl Pass<'_, '_> {
             && step.keep_moving_awake
             && rb.is_dynamic()
             && rb.activation().time_since_can_sleep > 0.0
+            && rb.linear_damping() == 0.0
             && rb.linvel().length_squared() > step.frame.rest_speed * step.frame.rest_speed
         {
             self.out.to_wake.push(handle);
