@@ -154,11 +154,15 @@ impl<T: RealField + Copy> Law<T> {
     /// `m_eff = 1/(1/m₁ + 1/m₂ + a₁ + a₂) = μ/f`, and
     ///
     /// ```text
-    /// U = −w·n̄,  q = 2d/(m_eff U²) = 2 d̃ (|w|/U)² (M/μ) f,  e = sqrt(1 − q),
+    /// U = −w·n̄ = −((v₂ − v₁)·n̄ + ω₂·k₂ − ω₁·k₁),  kᵢ = rᵢ × n̄,
+    /// q = 2d/(m_eff U²) = 2 d̃ (|w|/U)² (M/μ) f,  e = sqrt(1 − q),
     /// s = U (1 + e),  J = μ (s/f),  Δv₁ = −(m₂/M)(s/f) n̄,  Δv₂ = (m₁/M)(s/f) n̄,
     /// ```
     ///
-    /// clamped as the ball law (`q > 1` ⇒ `e² = 10⁻⁶`). No product of two
+    /// clamped as the ball law (`q > 1` ⇒ `e² = 10⁻⁶`). `U` takes the
+    /// spins' part as `ωᵢ·kᵢ`, not from the summed `w`: a fast spin's
+    /// surface velocity is mostly tangential, and its normal part taken
+    /// from `w` would keep little but rounding. No product of two
     /// masses, nothing that fails as `aᵢ → 0`; with `a₁ = a₂ = 0` and
     /// `ω = 0`, `f = 1` exactly and the result is [`Law::resolve_unit`]'s
     /// bit for bit. `aᵢ` is taken as `max(aᵢ, 0)`, so an inverse inertia
@@ -203,14 +207,19 @@ impl<T: RealField + Copy> Law<T> {
         let spin = <Const<D>>::velocity_at(&b.angular_velocity, rb)
             - <Const<D>>::velocity_at(&a.angular_velocity, ra);
         let w = (b.velocity - a.velocity) + spin;
-        let approach_speed = -w.dot(n);
+        let ka = <Const<D>>::cross(ra, n);
+        let kb = <Const<D>>::cross(rb, n);
+        // `−w·n̄` with the spin's part as `ωᵢ·kᵢ = (ωᵢ × rᵢ)·n̄`: a fast
+        // spin's surface velocity is mostly tangential, and its normal
+        // part taken from the summed vector would keep only its rounding.
+        let approach_speed = -((b.velocity - a.velocity).dot(n)
+            + <Const<D>>::dot(&b.angular_velocity, &kb)
+            - <Const<D>>::dot(&a.angular_velocity, &ka));
         if !(approach_speed > T::zero() && approach_speed.is_finite()) {
             return None;
         }
         let pair = self.pair_masses(a.mass, b.mass)?;
         let zero = T::zero();
-        let ka = <Const<D>>::cross(ra, n);
-        let kb = <Const<D>>::cross(rb, n);
         let ia = <Const<D>>::apply(&a.inverse_inertia, &ka);
         let ib = <Const<D>>::apply(&b.inverse_inertia, &kb);
         let aa = <Const<D>>::dot(&ka, &ia).max(zero);

@@ -9,7 +9,7 @@ use crate::math::{Pose, Real, Vector, from_law, to_law};
 use crate::rapier::parry::query::ContactManifold;
 use crate::rapier::prelude::*;
 
-use super::motion::from_law_angular;
+use super::motion::{angular_speed, from_law_angular};
 use super::patch::{all_part, deepest_striking, patch};
 use super::toi::{Mover, closing_bound, gap, last_apart, manifolds_at};
 use super::{Key, PATCH_TOLERANCES, REST_FLOOR, RigidInput, RigidReplay};
@@ -112,15 +112,13 @@ impl RigidReplay {
         Some(bent)
     }
 
-    /// For pair `i`, idle at `t` as [`Idle::Parting`]: an instant in
-    /// `(t, dt]` at which it meets again, if it overlaps at the step's end
-    /// by more than [`reentry_depth`] beyond twice its overlap at `t`
-    /// ([`meets_again`]). A body turning
-    /// fast brings another corner into the partner its last one just left,
-    /// which the search from `t` does not see past the parting touch it
-    /// starts from. Bisection for the last instant before that overlap, as
-    /// the rewind's; `None` for the pairs that part (one look at the
-    /// manifolds at the step's end).
+    /// For pair `i`, idle at `t` as [`Idle::Parting`]: the instant in
+    /// `(t, dt]` at which it meets again, if any ([`meets_again`]). A body
+    /// turning fast brings another corner into the partner its last one
+    /// just left, which the search from `t` does not see past the parting
+    /// touch it starts from: the search starts after the window in which
+    /// no such corner can sink deeper than [`BLIND_DEPTH`] of the smaller
+    /// body's reach ([`blind_window`]).
     pub(super) fn reentry(
         &mut self,
         input: &RigidInput,
@@ -129,9 +127,14 @@ impl RigidReplay {
         t: Real,
     ) -> Option<Real> {
         let dt = input.frame.dt;
-        self.on_movers(colliders, i, |a, b, tolerance, manifolds| {
-            meets_again(a, b, (t, dt), tolerance, manifolds)
-        })
+        let again = self.on_movers(colliders, i, |a, b, tolerance, manifolds| {
+            Some(meets_again(a, b, (t, dt), tolerance, manifolds))
+        })?;
+        match again {
+            Again::At(s) => Some(s),
+            Again::SearchFrom(s) => self.time_of_impact(colliders, i, s, dt),
+            Again::Never => None,
+        }
     }
 
     /// For pair `i`, idle at `t` as [`Idle::Held`] (touching without
@@ -228,23 +231,96 @@ impl RigidReplay {
     }
 }
 
-/// [`RigidReplay::reentry`] of `a` and `b` over `(t, dt]`: if they
-/// overlap at the step's end by more than [`reentry_depth`] beyond twice
-/// their overlap at `t` (none, or the little a touching pair has),
-/// bisection for the last instant they overlap by less. The parting
-/// touch at `t` is within a tolerance or so of zero (parry's clipping
-/// moves its contact's distance by a few tolerances as the bodies turn):
-/// the depth keeps the bisection off it, and the impact is met that deep.
+/// How deep, relative to the smaller body's reach, a corner may sink
+/// unseen in the window after a parting touch ([`blind_window`]).
+const BLIND_DEPTH: Real = 1e-3;
+
+/// What [`meets_again`] found.
+#[derive(Copy, Clone, Debug, PartialEq)]
+enum Again {
+    /// The pair meets again at this instant.
+    At(Real),
+    /// The pair is apart at this instant: its time of impact is searched
+    /// from there.
+    SearchFrom(Real),
+    /// The pair does not meet again within the step.
+    Never,
+}
+
+/// [`RigidReplay::reentry`] of `a` and `b` after their parting touch at
+/// `t`. At the end `s` of the [`blind_window`] (or the step's end if that
+/// comes first): if they overlap then by more than [`reentry_depth`]
+/// beyond twice their overlap at `t`, the last instant in `(t, s]` they
+/// overlap by less ([`first_overlap`]); if they are apart then, a search
+/// from `s`; if they still touch then, the same look at the step's end.
+/// The parting touch at `t` is within a tolerance or so of zero (parry's
+/// clipping moves its contact's distance by a few tolerances as the
+/// bodies turn): the depth keeps the bisection off it, and the impact is
+/// met that deep.
 fn meets_again(
     a: &Mover,
     b: &Mover,
     (t, dt): (Real, Real),
     tolerance: Real,
     manifolds: &mut Vec<ContactManifold<(), ()>>,
-) -> Option<Real> {
-    first_overlap(a, b, (t, dt), tolerance, manifolds, |_, manifolds, _| {
-        gap(manifolds)
-    })
+) -> Again {
+    let overlap = |t: Real, end: Real, manifolds: &mut Vec<ContactManifold<(), ()>>| {
+        first_overlap(a, b, (t, end), tolerance, manifolds, |_, manifolds, _| {
+            gap(manifolds)
+        })
+    };
+    let end = t + blind_window(a, b);
+    if end.is_nan() || end >= dt {
+        return overlap(t, dt, manifolds).map_or(Again::Never, Again::At);
+    }
+    if let Some(s) = overlap(t, end, manifolds) {
+        return Again::At(s);
+    }
+    manifolds_at(
+        a.shape,
+        &a.pose_at(end),
+        b.shape,
+        &b.pose_at(end),
+        tolerance.max(0.0),
+        manifolds,
+    );
+    if gap(manifolds).is_none_or(|d| d > tolerance) {
+        return Again::SearchFrom(end);
+    }
+    overlap(end, dt, manifolds).map_or(Again::Never, Again::At)
+}
+
+/// The window after a parting touch of `a` and `b` in which no other
+/// contact of theirs can sink deeper than [`BLIND_DEPTH`] of the smaller
+/// reach unseen. A material point's distance to the partner's surface,
+/// non-negative at both ends of a window `h` long, is at least `−C h²/8`
+/// within it, `C` a bound of its second derivative: with `ωᵢ` the angular
+/// speeds, `rᵢ` the reaches and `v` the centres' relative speed,
+///
+/// ```text
+/// C = ω_a² r_a + ω_b² r_b + 2 ω_a ω_b (r_a + r_b) + 2 (ω_a + ω_b) v
+/// ```
+///
+/// (a point turning on its arm, the partner's surface normal turning
+/// under the relative motion). Bodies that do not turn have no such
+/// contact: the window is the whole step.
+fn blind_window(a: &Mover, b: &Mover) -> Real {
+    let (wa, wb) = (
+        angular_speed(a.motion.angvel),
+        angular_speed(b.motion.angvel),
+    );
+    let v = (a.motion.linvel - b.motion.linvel).length();
+    let curvature = wa * wa * a.reach
+        + wb * wb * b.reach
+        + 2.0 * wa * wb * (a.reach + b.reach)
+        + 2.0 * (wa + wb) * v;
+    let depth = BLIND_DEPTH * a.reach.min(b.reach);
+    let window = (8.0 * depth / curvature).sqrt();
+    if window.is_nan() {
+        Real::INFINITY
+    } else {
+        window
+    }
 }
 
 /// [`RigidReplay::strikes_later`] of `a` and `b` over `(t, dt]`: if a
@@ -324,3 +400,7 @@ fn first_overlap(
 fn reentry_depth(a: &Mover, b: &Mover, tolerance: Real) -> Real {
     (1e-6 * a.reach.min(b.reach)).max(PATCH_TOLERANCES * tolerance)
 }
+
+#[cfg(test)]
+#[path = "resolve_tests.rs"]
+mod tests;

@@ -1,0 +1,157 @@
+//! A parting touch's next meeting against a closed form evaluated here.
+// One source for f32 and f64: `as Real` is a cast in one build only.
+#![allow(clippy::unnecessary_cast)]
+
+use super::*;
+use crate::math::Vector;
+use crate::rapier::math::AngVector;
+use crate::rapier::parry::shape::Cuboid;
+
+use super::super::motion::Motion;
+use super::super::toi::time_of_impact;
+use crate::cast::Rewind;
+
+/// Rounding of this precision's positions.
+fn tol() -> f64 {
+    if std::mem::size_of::<Real>() == 8 {
+        1e-9
+    } else {
+        1e-3
+    }
+}
+
+/// A rotation about z by `w` (2D: the angle).
+fn about_z(w: Real) -> AngVector {
+    #[cfg(feature = "dim2")]
+    {
+        w
+    }
+    #[cfg(feature = "dim3")]
+    {
+        AngVector::new(0.0, 0.0, w)
+    }
+}
+
+fn xy(x: Real, y: Real) -> Vector {
+    let mut v = Vector::ZERO;
+    v[0] = x;
+    v[1] = y;
+    v
+}
+
+/// The first root of `f` in `(0, end]` (sampled, then bisected), if any.
+fn first_root(f: impl Fn(f64) -> f64, end: f64) -> Option<f64> {
+    let samples = 4000;
+    let mut prev = end / samples as f64;
+    for i in 2..=samples {
+        let t = end * i as f64 / samples as f64;
+        if f(t) <= 0.0 {
+            let (mut lo, mut hi) = (prev, t);
+            for _ in 0..200 {
+                let mid = 0.5 * (lo + hi);
+                if f(mid) > 0.0 { lo = mid } else { hi = mid }
+            }
+            return Some(lo);
+        }
+        prev = t;
+    }
+    None
+}
+
+/// The half-extents of a flat bar, 1.6 long.
+const HALF: (Real, Real) = (0.8, 0.05);
+
+/// Where a bar of [`HALF`], turned from `theta0` at `omega` and rising
+/// from the height its lowest corner touches the floor at (y = 0), meets
+/// the floor next (first within `(0, end]`), as the replay finds it after
+/// that parting touch: [`meets_again`], and the search it may hand on to.
+fn next_meeting(theta0: Real, omega: Real, vy: Real, end: Real) -> (Option<Real>, Option<f64>) {
+    let (hx, hy) = HALF;
+    let lowest_drop =
+        |theta: f64| f64::from(hx) * theta.sin().abs() + f64::from(hy) * theta.cos().abs();
+    let y0 = lowest_drop(f64::from(theta0));
+    let lowest =
+        |t: f64| y0 + f64::from(vy) * t - lowest_drop(f64::from(theta0) + f64::from(omega) * t);
+    let expected = first_root(lowest, f64::from(end));
+    let mut half = Vector::splat(hy);
+    half[0] = hx;
+    let bar = Cuboid::new(half);
+    let motion = Motion {
+        pose: Pose::new(xy(0.3, y0 as Real), about_z(theta0)),
+        local_com: Vector::ZERO,
+        linvel: xy(0.0, vy),
+        angvel: about_z(omega),
+        t_ref: 0.0,
+    };
+    let mut floor_half = Vector::splat(10.0);
+    floor_half[1] = 1.0;
+    let floor = Cuboid::new(floor_half);
+    let still = Motion::still(Pose::from_translation(xy(0.0, -1.0)));
+    let a = Mover {
+        motion: &motion,
+        offset: Some(Pose::IDENTITY),
+        shape: &bar,
+        reach: half.length(),
+    };
+    let b = Mover {
+        motion: &still,
+        offset: None,
+        shape: &floor,
+        reach: floor_half.length(),
+    };
+    let tolerance = (1e-3 * tol()) as Real;
+    let mut manifolds = Vec::new();
+    let found = match meets_again(&a, &b, (0.0, end), tolerance, &mut manifolds) {
+        Again::At(s) => Some(s),
+        Again::SearchFrom(s) => {
+            assert!(s > 0.0 && s < end, "a search from {s}");
+            time_of_impact(&a, &b, s, end, tolerance, Rewind::Never, &mut manifolds)
+        }
+        Again::Never => None,
+    };
+    (found, expected)
+}
+
+/// A bar struck on one corner rises turning fast: its other corner swings
+/// down through the floor's level and up again before the interval ends.
+/// The replay meets it when the lowest corner,
+/// `y(t) = y₀ + vy t − (hx|sin θ(t)| + hy|cos θ(t)|)`, `θ(t) = θ₀ + ω t`,
+/// first comes back to the floor (its first root after the touch, found by
+/// bisection here); a look at the interval's end alone finds the bar clear.
+#[test]
+fn a_corner_swinging_through_after_a_parting_touch_is_met_in_time() {
+    for (theta0, omega, vy) in [(-0.3, 10.0, 2.0), (0.4, -12.0, 2.5), (-0.2, 14.0, 3.0)] {
+        let end = 0.3;
+        let (found, expected) = next_meeting(theta0, omega, vy, end);
+        let expected = expected.expect("the corner comes back to the floor");
+        let (hx, hy) = HALF;
+        let lowest_at_end = f64::from(hx * (theta0 + omega * end).sin().abs())
+            + f64::from(hy * (theta0 + omega * end).cos().abs());
+        assert!(
+            f64::from(vy * end)
+                + f64::from(hx * theta0.sin().abs())
+                + f64::from(hy * theta0.cos().abs())
+                > lowest_at_end,
+            "θ₀ {theta0}, ω {omega}: the bar is to be clear at the end"
+        );
+        let t = found.unwrap_or_else(|| {
+            panic!("θ₀ {theta0}, ω {omega}, vy {vy}: no meeting; closed form {expected}")
+        });
+        let speed = f64::from(vy.abs() + omega.abs() * hx);
+        assert!(
+            (f64::from(t) - expected).abs() * speed < tol(),
+            "θ₀ {theta0}, ω {omega}, vy {vy}: t = {t}, closed form {expected}"
+        );
+    }
+}
+
+/// A bar rising faster than its corners swing down, or not turning, does
+/// not meet the floor again.
+#[test]
+fn a_bar_that_rises_clear_does_not_meet_again() {
+    for (theta0, omega, vy) in [(-0.3, 10.0, 6.0), (-0.3, 0.0, 0.5)] {
+        let (found, expected) = next_meeting(theta0, omega, vy, 0.3);
+        assert_eq!(expected, None, "θ₀ {theta0}, ω {omega}, vy {vy}");
+        assert_eq!(found, None, "θ₀ {theta0}, ω {omega}, vy {vy}");
+    }
+}
