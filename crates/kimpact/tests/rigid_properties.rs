@@ -147,6 +147,10 @@ trait Dim<T: RealField + Copy, const D: usize>: RigidDim<T, D> + Sized {
     fn angular3(w: &Self::Angular) -> Vector3<f64>;
     /// The inertia `I` (not inverted: from the principal values), 3D.
     fn inertia(c: &BodyCase) -> Matrix3<f64>;
+    /// The inverse inertia `I⁻¹`, 3D f64 (2D: about z only).
+    fn inverse3(c: &BodyCase) -> Matrix3<f64>;
+    /// A unit vector in the contact plane of the unit normal `n`.
+    fn tangents(n: &Vector3<f64>) -> Vec<Vector3<f64>>;
 }
 
 fn f<T: RealField + Copy>(x: T) -> f64 {
@@ -174,6 +178,12 @@ impl<T: RealField + Copy> Dim<T, 2> for Const<2> {
     fn inertia(c: &BodyCase) -> Matrix3<f64> {
         Matrix3::from_diagonal(&Vector3::new(0.0, 0.0, 1.0 / c.lambda.z))
     }
+    fn inverse3(c: &BodyCase) -> Matrix3<f64> {
+        Matrix3::from_diagonal(&Vector3::new(0.0, 0.0, c.lambda.z))
+    }
+    fn tangents(n: &Vector3<f64>) -> Vec<Vector3<f64>> {
+        vec![Vector3::new(-n.y, n.x, 0.0)]
+    }
 }
 
 impl<T: RealField + Copy> Dim<T, 3> for Const<3> {
@@ -191,6 +201,14 @@ impl<T: RealField + Copy> Dim<T, 3> for Const<3> {
     }
     fn inertia(c: &BodyCase) -> Matrix3<f64> {
         principal(c, c.lambda.map(|l| 1.0 / l))
+    }
+    fn inverse3(c: &BodyCase) -> Matrix3<f64> {
+        principal(c, c.lambda)
+    }
+    fn tangents(n: &Vector3<f64>) -> Vec<Vector3<f64>> {
+        let axis = n.iamin();
+        let t1 = n.cross(&Vector3::ith(axis, 1.0)).normalize();
+        vec![t1, n.cross(&t1)]
     }
 }
 
@@ -219,7 +237,8 @@ fn project<const D: usize>(v: &Vector3<f64>) -> Vector3<f64> {
     }
 }
 
-fn setup<T: RealField + Copy, const D: usize>(c: &Case) -> Setup<T, D>
+/// `None` where the case's normal has no part in the plane (2D).
+fn setup<T: RealField + Copy, const D: usize>(c: &Case) -> Option<Setup<T, D>>
 where
     Const<D>: Dim<T, D>,
 {
@@ -253,13 +272,13 @@ where
     let arm_a = to_d(&(c.point - c.a.centre));
     let arm_b = to_d(&(c.point - c.b.centre));
     let n = to_d(&c.normal);
-    let mut contact = Contact::new(arm_a, arm_b, n).unwrap();
+    let mut contact = Contact::new(arm_a, arm_b, n).ok()?;
     // Flip the normal if the contact points recede along it.
     let w = b.point_velocity(&arm_b) - a.point_velocity(&arm_a);
     if w.dot(contact.normal()) > T::zero() {
         contact = Contact::new(arm_a, arm_b, -n).unwrap();
     }
-    Setup {
+    Some(Setup {
         arm_a: back(contact.arm_a()),
         arm_b: back(contact.arm_b()),
         normal: back(contact.normal()),
@@ -271,7 +290,7 @@ where
             ..Default::default()
         })
         .unwrap(),
-    }
+    })
 }
 
 /// One body's state in f64, 3D: mass (None: immovable), v, ω, I.
@@ -328,7 +347,10 @@ impl State {
         }
     }
     /// Linear momentum, angular momentum about `o` for a body at `centre`,
-    /// and a scale of each (the sum of the magnitudes of their terms).
+    /// and a scale of each (the sum of the magnitudes of their terms: for
+    /// `(centre − o) × p`, `|centre − o| |p|`, whose rounding a cross
+    /// product of nearly parallel vectors keeps although the product is
+    /// small).
     fn momenta(&self, centre: &Vector3<f64>, o: &Vector3<f64>) -> [Vector3<f64>; 4] {
         let Some(m) = self.mass else {
             return [Vector3::zeros(); 4];
@@ -340,7 +362,7 @@ impl State {
             p,
             orbit + spin,
             Vector3::repeat(p.norm()),
-            Vector3::repeat(orbit.norm() + spin.norm()),
+            Vector3::repeat((centre - o).norm() * p.norm() + spin.norm()),
         ]
     }
 }
@@ -356,7 +378,7 @@ fn run<T: RealField + Copy, const D: usize>(
 where
     Const<D>: Dim<T, D>,
 {
-    let s = setup::<T, D>(c);
+    let s = setup::<T, D>(c)?;
     let i = match c.friction {
         None => s.law.resolve_rigid(&s.a, &s.b, &s.contact)?,
         Some((mu, beta)) => {
@@ -631,7 +653,9 @@ where
     let Some((mu, beta)) = c.friction else {
         return Ok(());
     };
-    let s = setup::<T, D>(c);
+    let Some(s) = setup::<T, D>(c) else {
+        return Ok(());
+    };
     let Some(plain) = s.law.resolve_rigid(&s.a, &s.b, &s.contact) else {
         return Ok(());
     };
@@ -677,8 +701,9 @@ where
         mu * jn
     );
     match i.friction {
+        // As precise as `K_tt` is conditioned (the law's docs).
         FrictionRegime::Stick => prop_assert!(
-            (g_after + g * beta).norm() <= rel * scale,
+            (g_after + g * beta).norm() <= rel * scale * tangent_condition::<T, D>(c, &s),
             "stuck at {g_after:?}, −β g = {:?}",
             -g * beta
         ),
@@ -693,6 +718,38 @@ where
         FrictionRegime::None => prop_assert_eq!(p, Vector3::zeros()),
     }
     Ok(())
+}
+
+/// The condition number of the contact's `K_tt` (see
+/// [`friction_follows_walton`]), evaluated here in f64: `K = Σ (𝟙/mᵢ −
+/// [rᵢ]× Iᵢ⁻¹ [rᵢ]×)` over the bodies that move, on the contact plane.
+fn tangent_condition<T: RealField + Copy, const D: usize>(c: &Case, s: &Setup<T, D>) -> f64
+where
+    Const<D>: Dim<T, D>,
+{
+    let mut k = Matrix3::zeros();
+    for (body, arm, moves) in [(&c.a, &s.arm_a, true), (&c.b, &s.arm_b, !c.wall)] {
+        if moves {
+            let r = arm.cross_matrix();
+            k += Matrix3::identity() / body.mass - r * <Const<D> as Dim<T, D>>::inverse3(body) * r;
+        }
+    }
+    let t = <Const<D> as Dim<T, D>>::tangents(&s.normal);
+    if t.len() == 1 {
+        return 1.0;
+    }
+    let (a, b, d) = (
+        t[0].dot(&(k * t[0])),
+        t[0].dot(&(k * t[1])),
+        t[1].dot(&(k * t[1])),
+    );
+    let (mean, spread) = (0.5 * (a + d), (0.25 * (a - d).powi(2) + b * b).sqrt());
+    let (high, low) = (mean + spread, mean - spread);
+    if low > 0.0 {
+        (high / low).max(1.0)
+    } else {
+        f64::INFINITY
+    }
 }
 
 macro_rules! variant {
