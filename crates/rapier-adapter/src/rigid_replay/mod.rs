@@ -42,6 +42,8 @@ mod nodes;
 mod patch;
 mod queue;
 mod resolve;
+#[cfg(test)]
+mod test_support;
 mod toi;
 
 use kimpact::Law;

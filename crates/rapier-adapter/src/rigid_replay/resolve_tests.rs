@@ -4,59 +4,13 @@
 
 use super::*;
 use crate::math::Vector;
-use crate::rapier::math::AngVector;
 use crate::rapier::parry::shape::Cuboid;
 
 use super::super::motion::Motion;
 use super::super::toi::time_of_impact;
 use crate::cast::Rewind;
 
-/// Rounding of this precision's positions.
-fn tol() -> f64 {
-    if std::mem::size_of::<Real>() == 8 {
-        1e-9
-    } else {
-        1e-3
-    }
-}
-
-/// A rotation about z by `w` (2D: the angle).
-fn about_z(w: Real) -> AngVector {
-    #[cfg(feature = "dim2")]
-    {
-        w
-    }
-    #[cfg(feature = "dim3")]
-    {
-        AngVector::new(0.0, 0.0, w)
-    }
-}
-
-fn xy(x: Real, y: Real) -> Vector {
-    let mut v = Vector::ZERO;
-    v[0] = x;
-    v[1] = y;
-    v
-}
-
-/// The first root of `f` in `(0, end]` (sampled, then bisected), if any.
-fn first_root(f: impl Fn(f64) -> f64, end: f64) -> Option<f64> {
-    let samples = 4000;
-    let mut prev = end / samples as f64;
-    for i in 2..=samples {
-        let t = end * i as f64 / samples as f64;
-        if f(t) <= 0.0 {
-            let (mut lo, mut hi) = (prev, t);
-            for _ in 0..200 {
-                let mid = 0.5 * (lo + hi);
-                if f(mid) > 0.0 { lo = mid } else { hi = mid }
-            }
-            return Some(lo);
-        }
-        prev = t;
-    }
-    None
-}
+use super::super::test_support::{about_z, first_root, tol, xy};
 
 /// The half-extents of a flat bar, 1.6 long.
 const HALF: (Real, Real) = (0.8, 0.05);

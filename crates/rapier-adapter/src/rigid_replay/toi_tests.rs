@@ -12,33 +12,7 @@ use super::super::motion::{Motion, zero_angvel};
 use super::super::patch::{Placed, patch};
 use crate::cast::Rewind;
 
-/// Rounding of this precision's positions.
-fn tol() -> f64 {
-    if std::mem::size_of::<Real>() == 8 {
-        1e-9
-    } else {
-        1e-3
-    }
-}
-
-/// A rotation about z by `w` (2D: the angle).
-fn about_z(w: Real) -> AngVector {
-    #[cfg(feature = "dim2")]
-    {
-        w
-    }
-    #[cfg(feature = "dim3")]
-    {
-        AngVector::new(0.0, 0.0, w)
-    }
-}
-
-fn xy(x: Real, y: Real) -> Vector {
-    let mut v = Vector::ZERO;
-    v[0] = x;
-    v[1] = y;
-    v
-}
+use super::super::test_support::{about_z, first_root, tol, xy};
 
 /// A fixed floor whose top lies at y = 0.
 fn floor() -> (Cuboid, Motion) {
@@ -78,25 +52,6 @@ fn cube_mover<'a>(motion: &'a Motion, cube: &'a Cuboid) -> Mover<'a> {
         shape: cube,
         reach: 0.87,
     }
-}
-
-/// The first root of `f` in `[0, end]` (sampled, then bisected), if any.
-fn first_root(f: impl Fn(f64) -> f64, end: f64) -> Option<f64> {
-    let samples = 4000;
-    let mut prev = 0.0;
-    for i in 1..=samples {
-        let t = end * i as f64 / samples as f64;
-        if f(t) <= 0.0 {
-            let (mut lo, mut hi) = (prev, t);
-            for _ in 0..200 {
-                let mid = 0.5 * (lo + hi);
-                if f(mid) > 0.0 { lo = mid } else { hi = mid }
-            }
-            return Some(lo);
-        }
-        prev = t;
-    }
-    None
 }
 
 /// Issue 39, rigid replay A: a rod of length L turning at ω about its
