@@ -97,6 +97,60 @@ fn a_capsule_landing_in_a_heightfield_valley_never_gains_energy() {
     }
 }
 
+/// A fast cube skimming a room made of one fixed compound collider (a
+/// floor and a thin wall, marked) strikes the floor and, within the same
+/// step, the wall, which it would otherwise cross whole before the
+/// step's end: in both replay modes both impacts are the law's, the cube
+/// comes back from the wall (elastic, its x velocity reversed) and never
+/// ends a step beyond it.
+#[test]
+fn a_cube_bouncing_off_a_compound_floor_meets_its_wall() {
+    let (half, wall_x, wall_half) = (0.1, 0.3, 0.01);
+    for mode in REPLAY_MODES {
+        let mut w = TestWorld::new(mode, 0.0, Vector::ZERO);
+        let mut floor_half = Vector::splat(2.0);
+        floor_half[1] = 0.5;
+        let mut wall_extents = Vector::splat(2.0);
+        wall_extents[0] = wall_half;
+        let mut wall_at = Vector::Y * 2.0;
+        wall_at[0] = wall_x + wall_half;
+        let room = ColliderBuilder::compound(vec![
+            (
+                Pose::from_translation(Vector::Y * -0.5),
+                SharedShape::new(k::rapier::parry::shape::Cuboid::new(floor_half)),
+            ),
+            (
+                Pose::from_translation(wall_at),
+                SharedShape::new(k::rapier::parry::shape::Cuboid::new(wall_extents)),
+            ),
+        ])
+        .friction(0.0)
+        .restitution(0.0);
+        let fixed = w.world.insert_body(RigidBodyBuilder::fixed());
+        let room = w.world.insert_collider(room, Some(fixed));
+        w.kimpact.mark(&w.world.colliders, room).unwrap();
+        // 1 cm above the floor, 60 m/s towards the wall 0.2 m ahead: the
+        // floor at 3.3 ms, the wall at 5 ms, past it by 8.7 ms.
+        let mut v = Vector::Y * -3.0;
+        v[0] = 60.0;
+        let cube = replay_cube(&mut w, Vector::Y * (half + 0.01), v, half);
+        let mut walls = 0;
+        for step in 0..3 {
+            w.step();
+            walls += w
+                .kimpact
+                .events()
+                .iter()
+                .filter(|e| !e.by_solver && e.normal[0].abs() > 0.9)
+                .count();
+            let x = w.pos(cube)[0];
+            assert!(x < wall_x, "{mode}, step {step}: the cube is at x = {x}, beyond the wall");
+        }
+        assert_eq!(walls, 1, "{mode}: the wall's impacts");
+        assert!(w.vel(cube)[0] < -59.0, "{mode}: {:?}", w.vel(cube));
+    }
+}
+
 /// Dice of mixed sizes (cubes of half-size 0.15 to 0.35), random
 /// orientations, velocities and spins, elastic, in a closed box without
 /// gravity, rapier's default sleeping, exact mode: the kinetic energy

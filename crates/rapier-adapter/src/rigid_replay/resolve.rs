@@ -248,11 +248,15 @@ enum Again {
 }
 
 /// [`RigidReplay::reentry`] of `a` and `b` after their parting touch at
-/// `t`. At the end `s` of the [`blind_window`] (or the step's end if that
-/// comes first): if they overlap then by more than [`reentry_depth`]
-/// beyond twice their overlap at `t`, the last instant in `(t, s]` they
-/// overlap by less ([`first_overlap`]); if they are apart then, a search
-/// from `s`; if they still touch then, the same look at the step's end.
+/// `t`. Two convex shapes: at the end `s` of the [`blind_window`] (or the
+/// step's end if that comes first), if they overlap then by more than
+/// [`reentry_depth`] beyond twice their overlap at `t`, the last instant
+/// in `(t, s]` they overlap by less ([`first_overlap`]); if they are
+/// apart then, a search from `s`; if they still touch then, the same look
+/// at the step's end. Other pairs (a composite partner, whose other parts
+/// the body can meet, and cross, anywhere on its path): the same look at
+/// the end of each window of the shorter of the [`blind_window`] and the
+/// [`crossing_window`] in turn, up to the step's end.
 /// The parting touch at `t` is within a tolerance or so of zero (parry's
 /// clipping moves its contact's distance by a few tolerances as the
 /// bodies turn): the depth keeps the bisection off it, and the impact is
@@ -269,7 +273,24 @@ fn meets_again(
             gap(manifolds)
         })
     };
-    let end = t + blind_window(a, b);
+    let window = blind_window(a, b);
+    if a.shape.as_support_map().is_none() || b.shape.as_support_map().is_none() {
+        // Another part of a composite partner can be met anywhere on the
+        // path, and crossed whole before the step's end: a look at the
+        // pair every window, down to the time the bodies take to close
+        // the thicker one's thickness.
+        let look = window.min(crossing_window(a, b)).max((dt - t) / MAX_LOOKS);
+        let mut from = t;
+        while from < dt {
+            let end = (from + look).min(dt);
+            if let Some(s) = overlap(from, end, manifolds) {
+                return Again::At(s);
+            }
+            from = end;
+        }
+        return Again::Never;
+    }
+    let end = t + window;
     if end.is_nan() || end >= dt {
         return overlap(t, dt, manifolds).map_or(Again::Never, Again::At);
     }
@@ -288,6 +309,21 @@ fn meets_again(
         return Again::SearchFrom(end);
     }
     overlap(end, dt, manifolds).map_or(Again::Never, Again::At)
+}
+
+/// At most this many looks after a parting touch of a pair that is not
+/// two convex shapes ([`meets_again`]).
+const MAX_LOOKS: Real = 64.0;
+
+/// How long `a` and `b` take at least to close the thicker one's
+/// thickness (parry's `ccd_thickness`: about half a convex shape's least
+/// width): a body cannot cross a thin part of its partner within it
+/// without overlapping it at one end or the other. Infinite where both
+/// are thin (two meshes): then the windows of [`MAX_LOOKS`].
+fn crossing_window(a: &Mover, b: &Mover) -> Real {
+    let thickness = a.shape.ccd_thickness().max(b.shape.ccd_thickness());
+    let window = thickness / closing_bound(a, b);
+    if window > 0.0 { window } else { Real::INFINITY }
 }
 
 /// The window after a parting touch of `a` and `b` in which no other

@@ -109,3 +109,72 @@ fn a_bar_that_rises_clear_does_not_meet_again() {
         assert_eq!(found, None, "θ₀ {theta0}, ω {omega}, vy {vy}");
     }
 }
+
+/// A box bouncing off the floor of a room made of one compound (a floor
+/// and a thin wall: not convex) flies on towards the wall, which it
+/// would cross whole before the interval ends. The replay meets it at
+/// the wall: when its leading face, `x₀ + h + vx t`, reaches the wall's
+/// near face (a look at the interval's end alone finds the box past the
+/// wall, clear of the room).
+#[test]
+fn a_box_leaving_a_compound_s_floor_meets_its_wall() {
+    use crate::rapier::parry::shape::{Compound, SharedShape};
+    let (h, vx, vy, end) = (0.1 as Real, 30.0 as Real, 3.0 as Real, 1.0 as Real / 60.0);
+    let (wall_x, wall_half) = (0.3 as Real, 0.01 as Real);
+    let mut floor_half = Vector::splat(2.0);
+    floor_half[1] = 0.5;
+    let mut wall_half_extents = Vector::splat(2.0);
+    wall_half_extents[0] = wall_half;
+    let room = Compound::new(vec![
+        (
+            Pose::from_translation(xy(0.0, -0.5)),
+            SharedShape::new(Cuboid::new(floor_half)),
+        ),
+        (
+            Pose::from_translation(xy(wall_x + wall_half, 2.0)),
+            SharedShape::new(Cuboid::new(wall_half_extents)),
+        ),
+    ]);
+    let cube = Cuboid::new(Vector::splat(h));
+    let motion = Motion {
+        pose: Pose::from_translation(xy(0.0, h)),
+        local_com: Vector::ZERO,
+        linvel: xy(vx, vy),
+        angvel: about_z(0.0),
+        t_ref: 0.0,
+    };
+    let still = Motion::still(Pose::IDENTITY);
+    let a = Mover {
+        motion: &motion,
+        offset: Some(Pose::IDENTITY),
+        shape: &cube,
+        reach: h * (crate::math::DIM as Real).sqrt(),
+    };
+    let b = Mover {
+        motion: &still,
+        offset: None,
+        shape: &room,
+        reach: 4.0,
+    };
+    let tolerance = (1e-3 * tol()) as Real;
+    let mut manifolds = Vec::new();
+    let found = match meets_again(&a, &b, (0.0, end), tolerance, &mut manifolds) {
+        Again::At(s) => Some(s),
+        Again::SearchFrom(s) => {
+            time_of_impact(&a, &b, s, end, tolerance, Rewind::Never, &mut manifolds)
+        }
+        Again::Never => None,
+    };
+    let expected = f64::from((wall_x - h) / vx);
+    let t = found.unwrap_or_else(|| panic!("no meeting; closed form {expected}"));
+    // Met within the reentry depth of the wall (and the bisection's stop).
+    let depth = f64::from(reentry_depth(&a, &b, tolerance) + 4.0 * tolerance);
+    assert!(
+        (f64::from(t) - expected) * f64::from(vx) <= depth + tol(),
+        "t = {t}, closed form {expected}"
+    );
+    assert!(
+        f64::from(t) >= expected - tol(),
+        "t = {t}, closed form {expected}"
+    );
+}
