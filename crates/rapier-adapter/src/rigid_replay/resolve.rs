@@ -140,9 +140,10 @@ impl RigidReplay {
     /// For pair `i`, idle at `t` as [`Idle::Held`] (touching without
     /// striking: a box pivoting on one corner): an instant in
     /// `(t, dt]` at which another of its contacts strikes (closes faster
-    /// than the rest speed), if one overlaps at the step's end by more than
-    /// [`reentry_depth`] beyond twice the deepest at `t`
-    /// ([`strikes_again`]): the box's other corner
+    /// than the rest speed), if one overlaps at the step's end (with a
+    /// composite partner, at the end of any window of
+    /// [`through_the_step`]) by more than [`reentry_depth`] beyond twice
+    /// the deepest at `t` ([`strikes_again`]): the box's other corner
     /// landing, which the search from `t` does not see past the touch it
     /// starts from.
     pub(super) fn strikes_later(
@@ -273,24 +274,11 @@ fn meets_again(
             gap(manifolds)
         })
     };
-    let window = blind_window(a, b);
-    if a.shape.as_support_map().is_none() || b.shape.as_support_map().is_none() {
-        // Another part of a composite partner can be met anywhere on the
-        // path, and crossed whole before the step's end: a look at the
-        // pair every window, down to the time the bodies take to close
-        // the thicker one's thickness.
-        let look = window.min(crossing_window(a, b)).max((dt - t) / MAX_LOOKS);
-        let mut from = t;
-        while from < dt {
-            let end = (from + look).min(dt);
-            if let Some(s) = overlap(from, end, manifolds) {
-                return Again::At(s);
-            }
-            from = end;
-        }
-        return Again::Never;
+    if !convex(a, b) {
+        return through_the_step(a, b, (t, dt), |from, end| overlap(from, end, manifolds))
+            .map_or(Again::Never, Again::At);
     }
-    let end = t + window;
+    let end = t + blind_window(a, b);
     if end.is_nan() || end >= dt {
         return overlap(t, dt, manifolds).map_or(Again::Never, Again::At);
     }
@@ -361,8 +349,10 @@ fn blind_window(a: &Mover, b: &Mover) -> Real {
 
 /// [`RigidReplay::strikes_later`] of `a` and `b` over `(t, dt]`: if a
 /// contact that strikes (`strikes(s)(point, normal)` at time `s`) overlaps
-/// at the step's end by more than [`reentry_depth`] beyond twice the
-/// deepest one at `t`, bisection for the last instant none does. A contact
+/// at the step's end (a composite partner: at the end of a window of
+/// [`through_the_step`]) by more than [`reentry_depth`] beyond twice the
+/// deepest one at `t` (at the window's start), bisection for the last
+/// instant none does. A contact
 /// resting or sliding at `t` may sink meanwhile: it does not strike.
 fn strikes_again<F: Fn(Vector, Vector) -> bool>(
     a: &Mover,
@@ -373,16 +363,53 @@ fn strikes_again<F: Fn(Vector, Vector) -> bool>(
     manifolds: &mut Vec<ContactManifold<(), ()>>,
 ) -> Option<Real> {
     let reach = tolerance + reentry_depth(a, b, tolerance);
-    first_overlap(
-        a,
-        b,
-        (t, dt),
-        tolerance,
-        manifolds,
-        |s, manifolds, poses| {
-            deepest_striking(manifolds, poses, reach.max(0.0), strikes(s)).map(|(_, d)| d)
-        },
-    )
+    let mut striking = |from: Real, end: Real| {
+        first_overlap(
+            a,
+            b,
+            (from, end),
+            tolerance,
+            manifolds,
+            |s, manifolds, poses| {
+                deepest_striking(manifolds, poses, reach.max(0.0), strikes(s)).map(|(_, d)| d)
+            },
+        )
+    };
+    if convex(a, b) {
+        striking(t, dt)
+    } else {
+        through_the_step(a, b, (t, dt), striking)
+    }
+}
+
+/// Whether `a` and `b` are both convex shapes (parry's support maps).
+fn convex(a: &Mover, b: &Mover) -> bool {
+    a.shape.as_support_map().is_some() && b.shape.as_support_map().is_some()
+}
+
+/// For a pair with a composite partner, whose other parts the body can
+/// meet anywhere on its path and, thin, cross whole before the step's
+/// end: `look(from, end)` over the windows of `(t, dt]` in turn, each
+/// the shorter of the [`blind_window`] and the [`crossing_window`] (at
+/// most [`MAX_LOOKS`] of them); the first instant a look finds.
+fn through_the_step(
+    a: &Mover,
+    b: &Mover,
+    (t, dt): (Real, Real),
+    mut look: impl FnMut(Real, Real) -> Option<Real>,
+) -> Option<Real> {
+    let window = blind_window(a, b)
+        .min(crossing_window(a, b))
+        .max((dt - t) / MAX_LOOKS);
+    let mut from = t;
+    while from < dt {
+        let end = (from + window).min(dt);
+        if let Some(s) = look(from, end) {
+            return Some(s);
+        }
+        from = end;
+    }
+    None
 }
 
 /// The last instant in `(t, dt]` before `a` and `b` overlap by more than

@@ -9,6 +9,7 @@ use crate::rapier::parry::shape::Cuboid;
 use super::super::motion::Motion;
 use super::super::toi::time_of_impact;
 use crate::cast::Rewind;
+use crate::rapier::parry::query::ContactManifold;
 
 use super::super::test_support::{about_z, first_root, tol, xy};
 
@@ -110,31 +111,48 @@ fn a_bar_that_rises_clear_does_not_meet_again() {
     }
 }
 
-/// A box bouncing off the floor of a room made of one compound (a floor
-/// and a thin wall: not convex) flies on towards the wall, which it
-/// would cross whole before the interval ends. The replay meets it at
-/// the wall: when its leading face, `x₀ + h + vx t`, reaches the wall's
-/// near face (a look at the interval's end alone finds the box past the
-/// wall, clear of the room).
-#[test]
-fn a_box_leaving_a_compound_s_floor_meets_its_wall() {
+/// The near face of the thin wall of [`room`].
+const WALL_X: Real = 0.3;
+
+/// A room made of one compound (not convex): a floor whose top lies at
+/// y = 0 and a wall 0.02 thick whose near face lies at x = [`WALL_X`].
+fn room() -> crate::rapier::parry::shape::Compound {
     use crate::rapier::parry::shape::{Compound, SharedShape};
-    let (h, vx, vy, end) = (0.1 as Real, 30.0 as Real, 3.0 as Real, 1.0 as Real / 60.0);
-    let (wall_x, wall_half) = (0.3 as Real, 0.01 as Real);
+    let wall_half = 0.01;
     let mut floor_half = Vector::splat(2.0);
     floor_half[1] = 0.5;
     let mut wall_half_extents = Vector::splat(2.0);
     wall_half_extents[0] = wall_half;
-    let room = Compound::new(vec![
+    Compound::new(vec![
         (
             Pose::from_translation(xy(0.0, -0.5)),
             SharedShape::new(Cuboid::new(floor_half)),
         ),
         (
-            Pose::from_translation(xy(wall_x + wall_half, 2.0)),
+            Pose::from_translation(xy(WALL_X + wall_half, 2.0)),
             SharedShape::new(Cuboid::new(wall_half_extents)),
         ),
-    ]);
+    ])
+}
+
+/// Where a cube of half-size `h` resting on the floor of [`room`] at
+/// x = 0 (touching it at `t = 0`), moving at `(vx, vy)`, meets the room
+/// next within a step of 1/60 s, as `search` finds it from that touch;
+/// with the wall's closed-form time `(WALL_X − h)/vx` and the depth the
+/// search meets an overlap at.
+fn cube_in_room(
+    h: Real,
+    (vx, vy): (Real, Real),
+    search: impl FnOnce(
+        &Mover,
+        &Mover,
+        (Real, Real),
+        Real,
+        &mut Vec<ContactManifold<(), ()>>,
+    ) -> Option<Real>,
+) -> (Option<Real>, f64, f64) {
+    let end = 1.0 as Real / 60.0;
+    let room = room();
     let cube = Cuboid::new(Vector::splat(h));
     let motion = Motion {
         pose: Pose::from_translation(xy(0.0, h)),
@@ -158,23 +176,56 @@ fn a_box_leaving_a_compound_s_floor_meets_its_wall() {
     };
     let tolerance = (1e-3 * tol()) as Real;
     let mut manifolds = Vec::new();
-    let found = match meets_again(&a, &b, (0.0, end), tolerance, &mut manifolds) {
-        Again::At(s) => Some(s),
-        Again::SearchFrom(s) => {
-            time_of_impact(&a, &b, s, end, tolerance, Rewind::Never, &mut manifolds)
-        }
-        Again::Never => None,
-    };
-    let expected = f64::from((wall_x - h) / vx);
+    let found = search(&a, &b, (0.0, end), tolerance, &mut manifolds);
+    let depth = f64::from(reentry_depth(&a, &b, tolerance) + 4.0 * tolerance);
+    (found, f64::from((WALL_X - h) / vx), depth)
+}
+
+/// A box bouncing off the floor of a room made of one compound (a floor
+/// and a thin wall: not convex) flies on towards the wall, which it
+/// would cross whole before the interval ends. The replay meets it at
+/// the wall: when its leading face, `x₀ + h + vx t`, reaches the wall's
+/// near face (a look at the interval's end alone finds the box past the
+/// wall, clear of the room).
+#[test]
+fn a_box_leaving_a_compound_s_floor_meets_its_wall() {
+    let (found, expected, depth) = cube_in_room(
+        0.1,
+        (30.0, 3.0),
+        |a, b, span, tolerance, manifolds| match meets_again(a, b, span, tolerance, manifolds) {
+            Again::At(s) => Some(s),
+            Again::SearchFrom(s) => {
+                time_of_impact(a, b, s, span.1, tolerance, Rewind::Never, manifolds)
+            }
+            Again::Never => None,
+        },
+    );
     let t = found.unwrap_or_else(|| panic!("no meeting; closed form {expected}"));
     // Met within the reentry depth of the wall (and the bisection's stop).
-    let depth = f64::from(reentry_depth(&a, &b, tolerance) + 4.0 * tolerance);
     assert!(
-        (f64::from(t) - expected) * f64::from(vx) <= depth + tol(),
+        (f64::from(t) - expected) * 30.0 <= depth + tol() && f64::from(t) >= expected - tol(),
         "t = {t}, closed form {expected}"
     );
+}
+
+/// A box sliding on the compound room's floor (touching it without
+/// striking: held) towards its thin wall: the wall's contact strikes,
+/// and is met, when the leading face reaches it, though the box would be
+/// past the wall by the interval's end.
+#[test]
+fn a_box_sliding_on_a_compound_s_floor_strikes_its_wall() {
+    let rest_speed = 0.01;
+    let (found, expected, depth) =
+        cube_in_room(0.1, (60.0, 0.0), |a, b, span, tolerance, manifolds| {
+            let velocity = a.motion.linvel;
+            // The box's approach along the contact normal (from the box
+            // towards the room), the room still.
+            let strikes = |_: Real| move |_: Vector, n: Vector| velocity.dot(n) > rest_speed;
+            strikes_again(a, b, span, tolerance, strikes, manifolds)
+        });
+    let t = found.unwrap_or_else(|| panic!("no strike; closed form {expected}"));
     assert!(
-        f64::from(t) >= expected - tol(),
+        (f64::from(t) - expected) * 60.0 <= depth + tol() && f64::from(t) >= expected - tol(),
         "t = {t}, closed form {expected}"
     );
 }
