@@ -299,8 +299,8 @@ fn meets_again(
     overlap(end, dt, manifolds).map_or(Again::Never, Again::At)
 }
 
-/// At most this many looks after a parting touch of a pair that is not
-/// two convex shapes ([`meets_again`]).
+/// At most this many looks through a step for a pair with a composite
+/// partner ([`through_the_step`]).
 const MAX_LOOKS: Real = 64.0;
 
 /// How long `a` and `b` take at least to close the thicker one's
