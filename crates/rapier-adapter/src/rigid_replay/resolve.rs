@@ -403,7 +403,10 @@ fn through_the_step(
         .max((dt - t) / MAX_LOOKS);
     let mut from = t;
     while from < dt {
+        // A window below the rounding of `from` (a look from just before
+        // the step's end) goes to the end at once.
         let end = (from + window).min(dt);
+        let end = if end > from { end } else { dt };
         if let Some(s) = look(from, end) {
             return Some(s);
         }

@@ -229,3 +229,54 @@ fn a_box_sliding_on_a_compound_s_floor_strikes_its_wall() {
         "t = {t}, closed form {expected}"
     );
 }
+
+/// The looks through a step end, each one later than the last, even for
+/// a body so fast that its windows are below the rounding of an instant
+/// a rounding before the step's end.
+#[test]
+fn the_looks_through_a_step_always_move_on() {
+    let (h, end) = (0.1 as Real, 1.0 as Real / 60.0);
+    let room = room();
+    let cube = Cuboid::new(Vector::splat(h));
+    let motion = Motion {
+        pose: Pose::from_translation(xy(0.0, h)),
+        local_com: Vector::ZERO,
+        linvel: xy(3e15, 0.0),
+        angvel: about_z(1e15),
+        t_ref: 0.0,
+    };
+    let still = Motion::still(Pose::IDENTITY);
+    let a = Mover {
+        motion: &motion,
+        offset: Some(Pose::IDENTITY),
+        shape: &cube,
+        reach: 0.2,
+    };
+    let b = Mover {
+        motion: &still,
+        offset: None,
+        shape: &room,
+        reach: 4.0,
+    };
+    // Windows below the rounding of an instant near the step's end.
+    assert!(blind_window(&a, &b).max(crossing_window(&a, &b)) < 1e-12);
+    let just_before = Real::from_bits(end.to_bits() - 1);
+    for t in [0.0, 0.5 * end, just_before] {
+        let mut looks: Vec<(Real, Real)> = Vec::new();
+        let found = through_the_step(&a, &b, (t, end), |from, to| {
+            looks.push((from, to));
+            None
+        });
+        assert_eq!(found, None);
+        assert!(
+            !looks.is_empty() && looks.len() <= MAX_LOOKS as usize + 1,
+            "from {t}: {} looks",
+            looks.len()
+        );
+        assert!(
+            looks.iter().all(|&(from, to)| to > from),
+            "from {t}: {looks:?}"
+        );
+        assert_eq!(looks.last().map(|l| l.1), Some(end));
+    }
+}
