@@ -274,29 +274,27 @@ fn meets_again(
             gap(manifolds)
         })
     };
+    let again = |found: Result<Real, Option<Real>>| found.map_or(Again::Never, Again::At);
     if !convex(a, b) {
-        return through_the_step(a, b, (t, dt), |from, end| overlap(from, end, manifolds))
-            .map_or(Again::Never, Again::At);
+        return again(
+            through_the_step(a, b, (t, dt), |from, end| {
+                overlap(from, end, manifolds).ok()
+            })
+            .ok_or(None),
+        );
     }
+    // (A window below the rounding of `t` is none: the step's end.)
     let end = t + blind_window(a, b);
-    if end.is_nan() || end >= dt {
-        return overlap(t, dt, manifolds).map_or(Again::Never, Again::At);
+    if end.is_nan() || end >= dt || end <= t {
+        return again(overlap(t, dt, manifolds));
     }
-    if let Some(s) = overlap(t, end, manifolds) {
-        return Again::At(s);
+    match overlap(t, end, manifolds) {
+        Ok(s) => Again::At(s),
+        // Apart at the window's end (no contact within the tolerance).
+        Err(None) => Again::SearchFrom(end),
+        Err(Some(d)) if d > tolerance => Again::SearchFrom(end),
+        Err(Some(_)) => again(overlap(end, dt, manifolds)),
     }
-    manifolds_at(
-        a.shape,
-        &a.pose_at(end),
-        b.shape,
-        &b.pose_at(end),
-        tolerance.max(0.0),
-        manifolds,
-    );
-    if gap(manifolds).is_none_or(|d| d > tolerance) {
-        return Again::SearchFrom(end);
-    }
-    overlap(end, dt, manifolds).map_or(Again::Never, Again::At)
 }
 
 /// At most this many looks through a step for a pair with a composite
@@ -374,6 +372,7 @@ fn strikes_again<F: Fn(Vector, Vector) -> bool>(
                 deepest_striking(manifolds, poses, reach.max(0.0), strikes(s)).map(|(_, d)| d)
             },
         )
+        .ok()
     };
     if convex(a, b) {
         striking(t, dt)
@@ -420,7 +419,8 @@ fn through_the_step(
 /// it (a distance, negative overlapping, from their manifolds at an
 /// instant and their poses then; `None`: no contact), if they do at `dt`:
 /// bisection, down to the time the pair needs to close `tolerance` at its
-/// closing bound.
+/// closing bound. Otherwise the depth measured at `dt` (`None`: no contact
+/// within the tolerance, or nothing measured).
 fn first_overlap(
     a: &Mover,
     b: &Mover,
@@ -428,9 +428,9 @@ fn first_overlap(
     tolerance: Real,
     manifolds: &mut Vec<ContactManifold<(), ()>>,
     depth_at: impl Fn(Real, &[ContactManifold<(), ()>], (&Pose, &Pose)) -> Option<Real>,
-) -> Option<Real> {
+) -> Result<Real, Option<Real>> {
     if t >= dt || t.is_nan() {
-        return None;
+        return Err(None);
     }
     let bound = closing_bound(a, b);
     // Only overlaps count: the manifolds need list no contact farther
@@ -446,18 +446,18 @@ fn first_overlap(
     let depth = reentry_depth(a, b, tolerance);
     let at_dt = measure(dt);
     if !at_dt.is_some_and(|d| d < -depth) {
-        return None;
+        return Err(at_dt);
     }
     // Twice the overlap at `t`: a pair whose overlap creeps (parry's
     // clipped points sliding as two faces turn) meets again only as often
     // as its overlap doubles.
     let below = 2.0 * measure(t).map_or(0.0, |d| d.min(0.0)) - depth;
     if !at_dt.is_some_and(|d| d < below) {
-        return None;
+        return Err(at_dt);
     }
     let mut overlaps = |s: Real| measure(s).is_some_and(|d| d < below);
     let lo = last_apart(t, dt, bound, tolerance, |s| !overlaps(s));
-    (lo > t).then_some(lo)
+    if lo > t { Ok(lo) } else { Err(at_dt) }
 }
 
 /// How deep a pair meeting again after a parting touch is met: a
